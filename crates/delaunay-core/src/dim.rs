@@ -1,0 +1,152 @@
+//! What differs between 2D and 3D: the point type, the cell size and the predicates.
+//!
+//! Bowyer–Watson insertion, the walk, the cavity search, the re-linking of neighbours and the
+//! validation are written once over [`Dim`]. A cell is `D::C = D::N + 1` vertices, positively
+//! oriented; its local facet `i` is the one opposite its local vertex `i`. Replacing one vertex
+//! of a cell by another point keeps the orientation convention, which both the walk ("is the point
+//! beyond facet `i`?") and the cavity re-triangulation ("connect the new point to the facet") use.
+
+use delmesh_predicates::{self as pred, Sign};
+use std::fmt::Debug;
+
+/// A space dimension: [`D2`] (triangles) or [`D3`] (tetrahedra).
+pub trait Dim: Copy + Clone + Debug + Send + Sync + 'static {
+    /// Number of coordinates.
+    const N: usize;
+    /// Number of vertices of a cell (`N + 1`).
+    const C: usize;
+    /// A point, `[f64; N]`.
+    type Point: Copy + Debug + Default + PartialEq + Send + Sync + AsRef<[f64]> + AsMut<[f64]>;
+
+    /// Orientation of the cell `p[0..C]`: positive for a counter-clockwise triangle or a
+    /// positive-volume tetrahedron.
+    fn orient(p: &[Self::Point]) -> Sign;
+
+    /// Whether `p[C]` lies inside the circumsphere of the positively oriented cell `p[0..C]`,
+    /// with the symbolic perturbation by `ids`: never zero.
+    fn insphere_sos(p: &[Self::Point], ids: &[u32]) -> Sign;
+
+    /// Whether the points `p` (at most `N` of them) are affinely independent.
+    fn independent(p: &[Self::Point]) -> bool;
+
+    /// The Hilbert-curve key of a point quantised to `[0, 2^bits)` per axis.
+    fn hilbert_key(q: &[u32]) -> u64;
+
+    /// Bits per axis of [`Dim::hilbert_key`].
+    const HILBERT_BITS: u32;
+
+    /// Circumcentre of the cell `p[0..C]` (a floating-point construction).
+    fn circumcenter(p: &[Self::Point]) -> Self::Point;
+}
+
+/// Two dimensions: triangles.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct D2;
+
+/// Three dimensions: tetrahedra.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct D3;
+
+impl Dim for D2 {
+    const N: usize = 2;
+    const C: usize = 3;
+    type Point = [f64; 2];
+    const HILBERT_BITS: u32 = 31;
+
+    #[inline]
+    fn orient(p: &[[f64; 2]]) -> Sign {
+        pred::orient2d(p[0], p[1], p[2])
+    }
+
+    #[inline]
+    fn insphere_sos(p: &[[f64; 2]], ids: &[u32]) -> Sign {
+        pred::incircle_sos([p[0], p[1], p[2], p[3]], [ids[0], ids[1], ids[2], ids[3]])
+    }
+
+    fn independent(p: &[[f64; 2]]) -> bool {
+        match p.len() {
+            0 => true,
+            1 => true,
+            2 => p[0] != p[1],
+            _ => pred::orient2d(p[0], p[1], p[2]) != Sign::Zero,
+        }
+    }
+
+    fn hilbert_key(q: &[u32]) -> u64 {
+        crate::sort::hilbert_key::<2>([q[0], q[1]], Self::HILBERT_BITS)
+    }
+
+    fn circumcenter(p: &[[f64; 2]]) -> [f64; 2] {
+        let (a, b, c) = (p[0], p[1], p[2]);
+        let (bx, by) = (b[0] - a[0], b[1] - a[1]);
+        let (cx, cy) = (c[0] - a[0], c[1] - a[1]);
+        let b2 = bx * bx + by * by;
+        let c2 = cx * cx + cy * cy;
+        let d = 2.0 * (bx * cy - by * cx);
+        [
+            a[0] + (cy * b2 - by * c2) / d,
+            a[1] + (bx * c2 - cx * b2) / d,
+        ]
+    }
+}
+
+impl Dim for D3 {
+    const N: usize = 3;
+    const C: usize = 4;
+    type Point = [f64; 3];
+    const HILBERT_BITS: u32 = 21;
+
+    #[inline]
+    fn orient(p: &[[f64; 3]]) -> Sign {
+        pred::orient3d(p[0], p[1], p[2], p[3])
+    }
+
+    #[inline]
+    fn insphere_sos(p: &[[f64; 3]], ids: &[u32]) -> Sign {
+        pred::insphere_sos(
+            [p[0], p[1], p[2], p[3], p[4]],
+            [ids[0], ids[1], ids[2], ids[3], ids[4]],
+        )
+    }
+
+    fn independent(p: &[[f64; 3]]) -> bool {
+        match p.len() {
+            0 | 1 => true,
+            2 => p[0] != p[1],
+            // Three points are collinear iff all three coordinate projections are.
+            3 => {
+                let proj = |i: usize, j: usize| {
+                    pred::orient2d([p[0][i], p[0][j]], [p[1][i], p[1][j]], [p[2][i], p[2][j]])
+                };
+                proj(0, 1) != Sign::Zero || proj(1, 2) != Sign::Zero || proj(0, 2) != Sign::Zero
+            }
+            _ => pred::orient3d(p[0], p[1], p[2], p[3]) != Sign::Zero,
+        }
+    }
+
+    fn hilbert_key(q: &[u32]) -> u64 {
+        crate::sort::hilbert_key::<3>([q[0], q[1], q[2]], Self::HILBERT_BITS)
+    }
+
+    fn circumcenter(p: &[[f64; 3]]) -> [f64; 3] {
+        let a = p[0];
+        let d = |q: [f64; 3]| [q[0] - a[0], q[1] - a[1], q[2] - a[2]];
+        let (b, c, e) = (d(p[1]), d(p[2]), d(p[3]));
+        let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+        let cross = |u: [f64; 3], v: [f64; 3]| {
+            [
+                u[1] * v[2] - u[2] * v[1],
+                u[2] * v[0] - u[0] * v[2],
+                u[0] * v[1] - u[1] * v[0],
+            ]
+        };
+        let (ce, eb, bc) = (cross(c, e), cross(e, b), cross(b, c));
+        let det = 2.0 * dot(b, ce);
+        let (b2, c2, e2) = (dot(b, b), dot(c, c), dot(e, e));
+        let mut r = [0.0; 3];
+        for k in 0..3 {
+            r[k] = a[k] + (b2 * ce[k] + c2 * eb[k] + e2 * bc[k]) / det;
+        }
+        r
+    }
+}

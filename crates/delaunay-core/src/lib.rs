@@ -1,0 +1,36 @@
+//! Delaunay triangulations in 2D and 3D by Bowyer–Watson insertion, and their Voronoi dual.
+//!
+//! This crate is delmesh's kernel (`../shared/paper.md` R1–R3, R13–R16): [`Triangulation`]
+//! holds the paper's data structure (each simplex = its forming points + its neighbours) in flat
+//! arrays, builds it by incremental insertion in a spatially sorted order, and answers the
+//! queries the mesh-generation stages need (is this edge / face present? which cells surround a
+//! vertex?). [`VoronoiDiagram`] is the dual: circumcentres, forming points and neighbours (the
+//! paper's Table 1) and the Voronoi cells of the points. The crate never does I/O.
+//!
+//! ```
+//! use delmesh_delaunay_core::{Triangulation2, D2};
+//! let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]];
+//! let tri = Triangulation2::new(&pts).unwrap();
+//! assert_eq!(tri.num_cells(), 2); // co-circular: the perturbation picks one diagonal
+//! tri.validate().unwrap();
+//! ```
+#![forbid(unsafe_code)]
+
+mod dim;
+mod error;
+mod ids;
+mod sort;
+mod triangulation;
+mod validate;
+mod voronoi;
+
+pub use dim::{Dim, D2, D3};
+pub use error::{TriangulationError, ValidationError};
+pub use ids::{CellId, FacetRef, VertexId};
+pub use triangulation::{Insertion, Location, Triangulation};
+pub use voronoi::{VoronoiCell2, VoronoiDiagram, VoronoiFace3};
+
+/// A 2D Delaunay triangulation.
+pub type Triangulation2 = Triangulation<D2>;
+/// A 3D Delaunay tetrahedralisation.
+pub type Triangulation3 = Triangulation<D3>;

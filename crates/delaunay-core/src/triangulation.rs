@@ -1,0 +1,915 @@
+//! The [`Triangulation`]: flat arrays of cells and neighbours, built by Bowyer–Watson insertion.
+//!
+//! This is the paper's data structure (Table 1: each Voronoi vertex = its forming points and its
+//! neighbouring Voronoi vertices) in modern form:
+//!
+//! - `cells[C·c .. C·c+C]` are the vertices of cell `c`, positively oriented;
+//! - `neighbors[C·c + i]` is the [`FacetRef`] of the neighbour across the facet opposite local
+//!   vertex `i`, *including the neighbour's own facet index*, so crossing a facet is O(1);
+//! - a ghost vertex ([`VertexId::GHOST`]) closes the convex hull: every hull facet forms a ghost
+//!   cell with it, so the result is exactly the Delaunay triangulation of the input points (the
+//!   paper's box corners, R13, would change the hull);
+//! - freed cells go on a free list and are reused (the paper's step 8);
+//! - `incident[v]` is one cell containing vertex `v` (the paper's node → Voronoi vertex vector).
+//!
+//! Insertion (steps 2–8 of §3) is: walk from the cells made by the previous insertion to a cell
+//! containing the new point (or a hull facet it sees), grow the cavity of cells whose
+//! circumsphere contains it by a search over neighbours, connect the point to the cavity's
+//! boundary facets, and link the new cells to each other. All decisions are exact predicates with
+//! the symbolic perturbation of `delmesh-predicates`, so no point is ever rejected or retried.
+//!
+//! Vertices are numbered in insertion order (which is spatially sorted, for cache locality);
+//! [`Triangulation::input_index`] and [`Triangulation::vertex_of_input`] translate to and from
+//! the caller's numbering.
+
+use crate::dim::Dim;
+use crate::error::TriangulationError;
+use crate::ids::{CellId, FacetRef, VertexId};
+use crate::sort::{brio_order, SplitMix};
+use delmesh_predicates::{Sign, COORDINATE_RANGE};
+use std::marker::PhantomData;
+
+/// Most points a triangulation holds: cells (about 6.8 per point in 3D) must fit in the 30 bits
+/// a [`FacetRef`] leaves for them.
+const MAX_POINTS: usize = 1 << 27;
+
+/// Where a point lies relative to the triangulation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Location {
+    /// In the closed finite cell (not at one of its vertices), or on the far side of the hull
+    /// facet of this ghost cell.
+    Cell(CellId),
+    /// Exactly at an existing vertex.
+    Vertex(VertexId),
+}
+
+/// The outcome of inserting one point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Insertion {
+    /// The point became this new vertex.
+    Inserted(VertexId),
+    /// The point coincides with this existing vertex; nothing changed.
+    Duplicate(VertexId),
+}
+
+impl Insertion {
+    /// The vertex at the point, new or existing.
+    pub fn vertex(self) -> VertexId {
+        match self {
+            Insertion::Inserted(v) | Insertion::Duplicate(v) => v,
+        }
+    }
+}
+
+/// Scratch buffers of one insertion, kept between insertions so that inserting allocates
+/// nothing once they have grown.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Cavity {
+    /// Cells found in conflict, in discovery order.
+    cells: Vec<CellId>,
+    /// Cells still to search.
+    stack: Vec<CellId>,
+    /// Boundary facets: the new cell's vertices (the cavity cell's vertices with the new point
+    /// at `apex`), and the facet of the outside neighbour it is glued to.
+    boundary: Vec<BoundaryFacet>,
+    /// Matches the facets shared by new cells.
+    ridges: RidgeTable,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct BoundaryFacet {
+    vertices: [VertexId; 4],
+    apex: u8,
+    outside: FacetRef,
+}
+
+/// Open-addressing table pairing the two new cells that share a ridge (a vertex in 2D, an edge
+/// in 3D, always together with the new point). Entries are stamped, so clearing is O(1).
+#[derive(Clone, Debug, Default)]
+struct RidgeTable {
+    slots: Vec<(u64, FacetRef, u32)>,
+    stamp: u32,
+}
+
+impl RidgeTable {
+    fn reset(&mut self, n_entries: usize) {
+        let want = (n_entries * 2).next_power_of_two().max(64);
+        if self.slots.len() < want {
+            self.slots = vec![(0, FacetRef::NONE, 0); want];
+            self.stamp = 0;
+        }
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            self.slots.fill((0, FacetRef::NONE, 0));
+            self.stamp = 1;
+        }
+    }
+
+    /// Stores `facet` under `key`, or returns the facet stored earlier under the same key.
+    #[inline]
+    fn pair(&mut self, key: u64, facet: FacetRef) -> Option<FacetRef> {
+        let mask = self.slots.len() - 1;
+        let mut i = (key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 32) as usize & mask;
+        loop {
+            let slot = &mut self.slots[i];
+            if slot.2 != self.stamp {
+                *slot = (key, facet, self.stamp);
+                return None;
+            }
+            if slot.0 == key {
+                // Each ridge is shared by exactly two new cells, so the entry is not needed
+                // again; it stays in place to keep the probe chains of other keys intact.
+                return Some(slot.1);
+            }
+            i = (i + 1) & mask;
+        }
+    }
+}
+
+/// A Delaunay triangulation in `D` dimensions ([`crate::D2`] or [`crate::D3`]).
+///
+/// Build one with [`Triangulation::new`]; add points with [`Triangulation::insert`].
+#[derive(Clone, Debug)]
+pub struct Triangulation<D: Dim> {
+    /// Vertex coordinates, scaled by `scale` (a power of two, so exactly), insertion order.
+    pub(crate) points: Vec<D::Point>,
+    /// Multiply internal coordinates by this to get the caller's (exact: a power of two).
+    pub(crate) unscale: f64,
+    /// Multiply the caller's coordinates by this to get internal ones.
+    pub(crate) scale: f64,
+    /// Smallest internal magnitude the predicates handle exactly (zero excepted).
+    pub(crate) min_magnitude: f64,
+    /// Input index of each vertex.
+    pub(crate) input_index: Vec<u32>,
+    /// Vertex of each input point (duplicates share one).
+    pub(crate) vertex_of_input: Vec<VertexId>,
+    /// `(duplicate input index, input index of the point it repeats)`.
+    pub(crate) duplicates: Vec<(usize, usize)>,
+    /// `C` vertices per cell.
+    pub(crate) cells: Vec<VertexId>,
+    /// `C` neighbours per cell.
+    pub(crate) neighbors: Vec<FacetRef>,
+    /// Free cell slots.
+    pub(crate) free: Vec<CellId>,
+    /// One cell containing each vertex.
+    pub(crate) incident: Vec<CellId>,
+    /// Per-cell visit stamps for the cavity search.
+    pub(crate) mark: Vec<u32>,
+    pub(crate) stamp: u32,
+    /// A cell made by the last insertion: where the next walk starts.
+    pub(crate) last: CellId,
+    pub(crate) cavity: Cavity,
+    rng: SplitMix,
+    _dim: PhantomData<D>,
+}
+
+impl<D: Dim> Triangulation<D> {
+    /// The Delaunay triangulation of `points`, inserted in a spatially sorted random order.
+    ///
+    /// Exact duplicates are merged: they map to one vertex ([`Triangulation::vertex_of_input`])
+    /// and are listed by [`Triangulation::duplicates`].
+    ///
+    /// # Errors
+    /// A NaN or infinite coordinate, fewer than `D + 1` distinct points, all points on one line
+    /// (plane), or coordinates spanning more than the exact predicates' range.
+    pub fn new(points: &[D::Point]) -> Result<Self, TriangulationError> {
+        Self::with_progress(points, |_, _| {})
+    }
+
+    /// As [`Triangulation::new`], calling `progress(inserted, total)` every few thousand points.
+    ///
+    /// # Errors
+    /// As [`Triangulation::new`].
+    pub fn with_progress(
+        points: &[D::Point],
+        mut progress: impl FnMut(usize, usize),
+    ) -> Result<Self, TriangulationError> {
+        if points.len() >= MAX_POINTS {
+            return Err(TriangulationError::TooManyPoints(points.len()));
+        }
+        let (scale, min_magnitude) = scale_for::<D>(points)?;
+        let order = brio_order::<D>(points);
+        let mut tri = Self::empty(scale, min_magnitude, points.len());
+        let scaled = |i: u32| tri_scale::<D>(points[i as usize], scale);
+
+        // The first simplex: the first D + 1 affinely independent points in insertion order.
+        let mut first: Vec<usize> = Vec::with_capacity(D::C); // positions in `order`
+        let mut first_pts: Vec<D::Point> = Vec::with_capacity(D::C);
+        for (pos, &i) in order.iter().enumerate() {
+            let p = scaled(i);
+            first_pts.push(p);
+            if D::independent(&first_pts) {
+                first.push(pos);
+                if first.len() == D::C {
+                    break;
+                }
+            } else {
+                first_pts.pop();
+            }
+        }
+        if first.len() < D::C {
+            let distinct = count_distinct::<D>(points);
+            return Err(if distinct < D::C {
+                TriangulationError::TooFewPoints {
+                    distinct,
+                    dim: D::N,
+                    needed: D::C,
+                }
+            } else {
+                TriangulationError::Degenerate {
+                    distinct,
+                    dim: D::N,
+                    what: if first.len() == 2 {
+                        "collinear"
+                    } else {
+                        "coplanar"
+                    },
+                }
+            });
+        }
+        for &pos in &first {
+            tri.push_vertex(scaled(order[pos]), order[pos]);
+        }
+        tri.make_first_cell();
+
+        let total = points.len();
+        let mut done = D::C;
+        let mut next_report = 1 << 16;
+        let mut skip = first.iter().copied().peekable();
+        for (pos, &i) in order.iter().enumerate() {
+            if skip.peek() == Some(&pos) {
+                skip.next();
+                continue;
+            }
+            match tri.insert_scaled(scaled(i), i) {
+                Insertion::Inserted(_) => {}
+                Insertion::Duplicate(v) => {
+                    tri.vertex_of_input[i as usize] = v;
+                    let original = tri.input_index[v.index()] as usize;
+                    tri.duplicates.push((i as usize, original));
+                }
+            }
+            done += 1;
+            if done >= next_report {
+                progress(done, total);
+                next_report += 1 << 16;
+            }
+        }
+        tri.duplicates.sort_unstable();
+        progress(total, total);
+        Ok(tri)
+    }
+
+    fn empty(scale: f64, min_magnitude: f64, n: usize) -> Self {
+        // Tetrahedralisations of uniform points have about 6.7 cells per vertex, triangulations
+        // 2; reserving close to that avoids the doubling growth of `Vec` at the end.
+        let cells_per_point = if D::N == 3 { 6.8 } else { 2.05 };
+        let n_cells = (n as f64 * cells_per_point) as usize + 64;
+        Triangulation {
+            points: Vec::with_capacity(n),
+            unscale: 1.0 / scale,
+            scale,
+            min_magnitude,
+            input_index: Vec::with_capacity(n),
+            vertex_of_input: vec![VertexId::GHOST; n],
+            duplicates: Vec::new(),
+            cells: Vec::with_capacity(n_cells * D::C),
+            neighbors: Vec::with_capacity(n_cells * D::C),
+            free: Vec::new(),
+            incident: Vec::with_capacity(n),
+            mark: Vec::with_capacity(n_cells),
+            stamp: 0,
+            last: CellId(0),
+            cavity: Cavity::default(),
+            rng: SplitMix(0x0DE1_A0A7),
+            _dim: PhantomData,
+        }
+    }
+
+    fn push_vertex(&mut self, p: D::Point, input: u32) -> VertexId {
+        let v = VertexId(self.points.len() as u32);
+        self.points.push(p);
+        self.input_index.push(input);
+        if (input as usize) < self.vertex_of_input.len() {
+            self.vertex_of_input[input as usize] = v;
+        } else {
+            self.vertex_of_input
+                .resize(input as usize + 1, VertexId::GHOST);
+            self.vertex_of_input[input as usize] = v;
+        }
+        self.incident.push(CellId(0));
+        v
+    }
+
+    /// Builds the first finite cell from vertices `0..C` and its `C` ghost cells.
+    fn make_first_cell(&mut self) {
+        let mut verts: [VertexId; 4] = [VertexId(0), VertexId(1), VertexId(2), VertexId(3)];
+        let mut pts = [D::Point::default(); 5];
+        for k in 0..D::C {
+            pts[k] = self.points[k];
+        }
+        if D::orient(&pts[..D::C]) == Sign::Negative {
+            verts.swap(0, 1);
+        }
+        let c0 = self.alloc_cell(&verts[..D::C]);
+        // Ghost cell across facet f: the finite cell with vertex f replaced by the ghost, then
+        // two other vertices swapped so that a point beyond the facet makes it positive.
+        let mut ghosts = [CellId(0); 4];
+        for f in 0..D::C {
+            let mut g = verts;
+            g[f] = VertexId::GHOST;
+            let (a, b) = other_two(f);
+            g.swap(a, b);
+            ghosts[f] = self.alloc_cell(&g[..D::C]);
+            let gpos = g[..D::C]
+                .iter()
+                .position(|v| v.is_ghost())
+                .expect("ghost present");
+            self.link(FacetRef::new(c0, f), FacetRef::new(ghosts[f], gpos));
+        }
+        // Ghost cells meet each other across facets containing the ghost vertex.
+        self.cavity.ridges.reset(D::C * D::C);
+        for &g in &ghosts[..D::C] {
+            let gpos = self
+                .cell(g)
+                .iter()
+                .position(|v| v.is_ghost())
+                .expect("ghost present");
+            self.link_around_apex(g, gpos);
+        }
+        self.incident[..D::C].fill(c0);
+        self.last = c0;
+    }
+
+    /// Inserts one point (in the caller's coordinates) and returns its vertex.
+    ///
+    /// The new vertex's input index is the next one after all points given so far, so
+    /// [`Triangulation::input_index`] keeps counting in the caller's numbering.
+    ///
+    /// # Errors
+    /// A NaN or infinite coordinate, or one outside the range fixed when the triangulation was
+    /// built (more than 2^142 times smaller than its largest coordinate, or so large that the
+    /// predicates would overflow).
+    pub fn insert(&mut self, point: D::Point) -> Result<Insertion, TriangulationError> {
+        let input = self.vertex_of_input.len();
+        if input >= MAX_POINTS {
+            return Err(TriangulationError::TooManyPoints(input));
+        }
+        let p = tri_scale::<D>(point, self.scale);
+        for (axis, (&x, &s)) in point.as_ref().iter().zip(p.as_ref()).enumerate() {
+            if !x.is_finite() {
+                return Err(TriangulationError::NonFinite {
+                    index: input,
+                    axis,
+                    value: x,
+                });
+            }
+            let m = s.abs();
+            if m != 0.0 && !(self.min_magnitude..=COORDINATE_RANGE.1).contains(&m) {
+                return Err(TriangulationError::CoordinateRange {
+                    index: input,
+                    value: x,
+                    largest: self.unscale,
+                });
+            }
+        }
+        let result = self.insert_scaled(p, input as u32);
+        match result {
+            Insertion::Inserted(_) => {}
+            Insertion::Duplicate(v) => {
+                self.vertex_of_input.push(v);
+                let original = self.input_index[v.index()] as usize;
+                self.duplicates.push((input, original));
+            }
+        }
+        Ok(result)
+    }
+
+    /// Inserts an internal (scaled) point with the given input index.
+    pub(crate) fn insert_scaled(&mut self, p: D::Point, input: u32) -> Insertion {
+        let start = match self.locate_from(p, self.last) {
+            Location::Vertex(v) => return Insertion::Duplicate(v),
+            Location::Cell(c) => c,
+        };
+        let v = self.push_vertex(p, input);
+        self.dig_cavity(start, v);
+        self.fill_cavity();
+        Insertion::Inserted(v)
+    }
+
+    // ----- location -----
+
+    /// Locates `point` (caller's coordinates): the cell containing it, the ghost cell of a hull
+    /// facet it sees, or the vertex it coincides with.
+    pub fn locate(&mut self, point: D::Point) -> Location {
+        let p = tri_scale::<D>(point, self.scale);
+        self.locate_from(p, self.last)
+    }
+
+    /// Visibility walk (the paper's §5 search, with exact orientation tests): from `start`,
+    /// repeatedly cross a facet that has the point strictly on its far side. Delaunay
+    /// triangulations have no cycles for this walk; the facet tried first is random, which keeps
+    /// the walk short on regular grids.
+    pub(crate) fn locate_from(&mut self, p: D::Point, start: CellId) -> Location {
+        let mut c = start;
+        if let Some(g) = self.ghost_position(c) {
+            c = self.neighbors[c.index() * D::C + g].cell();
+        }
+        let mut pts = [D::Point::default(); 4];
+        let mut came_from = usize::MAX;
+        'walk: loop {
+            let base = c.index() * D::C;
+            for k in 0..D::C {
+                pts[k] = self.points[self.cells[base + k].index()];
+            }
+            let offset = self.rng.below(D::C);
+            for step in 0..D::C {
+                let f = (offset + step) % D::C;
+                if f == came_from {
+                    continue;
+                }
+                let saved = pts[f];
+                pts[f] = p;
+                let s = D::orient(&pts[..D::C]);
+                pts[f] = saved;
+                if s == Sign::Negative {
+                    let next = self.neighbors[base + f];
+                    c = next.cell();
+                    came_from = next.facet();
+                    if self.ghost_position(c).is_some() {
+                        // Strictly beyond a hull facet: that ghost cell is in conflict.
+                        return Location::Cell(c);
+                    }
+                    continue 'walk;
+                }
+            }
+            // The point is in the closed cell: at a vertex, or inside (then in conflict).
+            for k in 0..D::C {
+                if pts[k] == p {
+                    return Location::Vertex(self.cells[base + k]);
+                }
+            }
+            return Location::Cell(c);
+        }
+    }
+
+    // ----- insertion -----
+
+    /// Whether `p` (vertex `v`'s point) lies inside the circumsphere of cell `c`. For a ghost
+    /// cell the "sphere" is the open half-space beyond its hull facet; a point on the facet's
+    /// plane (line) is decided by the finite cell across the facet, so both agree exactly.
+    #[inline]
+    fn in_conflict(&self, c: CellId, p: D::Point, v: VertexId) -> bool {
+        let base = c.index() * D::C;
+        let mut pts = [D::Point::default(); 5];
+        let mut ids = [0u32; 5];
+        let mut ghost = usize::MAX;
+        for k in 0..D::C {
+            let u = self.cells[base + k];
+            if u.is_ghost() {
+                ghost = k;
+                pts[k] = p;
+            } else {
+                pts[k] = self.points[u.index()];
+                ids[k] = u.0;
+            }
+        }
+        if ghost == usize::MAX {
+            pts[D::C] = p;
+            ids[D::C] = v.0;
+            return D::insphere_sos(&pts[..=D::C], &ids[..=D::C]) == Sign::Positive;
+        }
+        match D::orient(&pts[..D::C]) {
+            Sign::Positive => true,
+            Sign::Negative => false,
+            Sign::Zero => {
+                let finite = self.neighbors[base + ghost].cell();
+                self.in_conflict(finite, p, v)
+            }
+        }
+    }
+
+    fn next_stamps(&mut self) -> (u32, u32) {
+        if self.stamp >= u32::MAX - 2 {
+            self.mark.fill(0);
+            self.stamp = 0;
+        }
+        self.stamp += 2;
+        (self.stamp - 1, self.stamp)
+    }
+
+    /// Steps 3–5: the cavity of cells in conflict with `v`, found by a search over neighbours
+    /// from `start` (which must be in conflict), and its boundary facets.
+    fn dig_cavity(&mut self, start: CellId, v: VertexId) {
+        let p = self.points[v.index()];
+        let (inside, outside) = self.next_stamps();
+        let mut cavity = std::mem::take(&mut self.cavity);
+        cavity.cells.clear();
+        cavity.boundary.clear();
+        cavity.stack.clear();
+        cavity.stack.push(start);
+        cavity.cells.push(start);
+        self.mark[start.index()] = inside;
+        while let Some(c) = cavity.stack.pop() {
+            let base = c.index() * D::C;
+            for f in 0..D::C {
+                let across = self.neighbors[base + f];
+                let n = across.cell();
+                let m = self.mark[n.index()];
+                if m == inside {
+                    continue;
+                }
+                if m != outside {
+                    if self.in_conflict(n, p, v) {
+                        self.mark[n.index()] = inside;
+                        cavity.cells.push(n);
+                        cavity.stack.push(n);
+                        continue;
+                    }
+                    self.mark[n.index()] = outside;
+                }
+                let mut vertices = [VertexId::GHOST; 4];
+                vertices[..D::C].copy_from_slice(&self.cells[base..base + D::C]);
+                vertices[f] = v;
+                cavity.boundary.push(BoundaryFacet {
+                    vertices,
+                    apex: f as u8,
+                    outside: across,
+                });
+            }
+        }
+        self.cavity = cavity;
+    }
+
+    /// Steps 6–8: one new cell per boundary facet (the facet joined to the new vertex), glued to
+    /// the outside neighbour and to each other; the cavity's cells are reused first.
+    fn fill_cavity(&mut self) {
+        let mut cavity = std::mem::take(&mut self.cavity);
+        for &c in &cavity.cells {
+            self.cells[c.index() * D::C] = VertexId::DEAD;
+            self.free.push(c);
+        }
+        cavity.ridges.reset(cavity.boundary.len() * (D::C - 1));
+        let mut last = None;
+        let mut last_finite = None;
+        for b in &cavity.boundary {
+            let c = self.alloc_cell(&b.vertices[..D::C]);
+            let apex = b.apex as usize;
+            self.link(FacetRef::new(c, apex), b.outside);
+            for k in 0..D::C {
+                let u = b.vertices[k];
+                if !u.is_ghost() {
+                    self.incident[u.index()] = c;
+                }
+            }
+            for j in 0..D::C {
+                if j != apex {
+                    let key = ridge_key(&b.vertices[..D::C], apex, j);
+                    if let Some(other) = cavity.ridges.pair(key, FacetRef::new(c, j)) {
+                        self.link(FacetRef::new(c, j), other);
+                    }
+                }
+            }
+            last = Some(c);
+            if b.vertices[..D::C].iter().all(|u| !u.is_ghost()) {
+                last_finite = Some(c);
+            }
+        }
+        self.last = last_finite
+            .or(last)
+            .expect("a cavity has at least one boundary facet: a bug in delmesh");
+        self.cavity = cavity;
+    }
+
+    /// Links the new cell `c`, whose apex (new vertex or ghost) is at local `apex`, to the
+    /// cells already registered in the ridge table.
+    fn link_around_apex(&mut self, c: CellId, apex: usize) {
+        let mut verts = [VertexId::GHOST; 4];
+        verts[..D::C].copy_from_slice(self.cell(c));
+        for j in 0..D::C {
+            if j != apex {
+                let key = ridge_key(&verts[..D::C], apex, j);
+                let mut ridges = std::mem::take(&mut self.cavity.ridges);
+                if let Some(other) = ridges.pair(key, FacetRef::new(c, j)) {
+                    self.link(FacetRef::new(c, j), other);
+                }
+                self.cavity.ridges = ridges;
+            }
+        }
+    }
+
+    #[inline]
+    fn link(&mut self, a: FacetRef, b: FacetRef) {
+        self.neighbors[a.cell().index() * D::C + a.facet()] = b;
+        self.neighbors[b.cell().index() * D::C + b.facet()] = a;
+    }
+
+    fn alloc_cell(&mut self, verts: &[VertexId]) -> CellId {
+        if let Some(c) = self.free.pop() {
+            let base = c.index() * D::C;
+            self.cells[base..base + D::C].copy_from_slice(verts);
+            return c;
+        }
+        let c = CellId(self.mark.len() as u32);
+        if self.cells.len() == self.cells.capacity() {
+            // Grow by a quarter rather than doubling: the arrays are most of the memory.
+            let extra = (self.cells.len() / 4).max(64 * D::C);
+            self.cells.reserve_exact(extra);
+            self.neighbors.reserve_exact(extra);
+            self.mark.reserve_exact(extra / D::C);
+        }
+        self.cells.extend_from_slice(verts);
+        self.neighbors
+            .extend(std::iter::repeat_n(FacetRef::NONE, D::C));
+        self.mark.push(0);
+        c
+    }
+
+    // ----- queries -----
+
+    /// Number of vertices (distinct inserted points).
+    pub fn num_vertices(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Number of input points given so far, duplicates included.
+    pub fn num_input_points(&self) -> usize {
+        self.vertex_of_input.len()
+    }
+
+    /// Number of finite cells (triangles or tetrahedra).
+    pub fn num_cells(&self) -> usize {
+        self.cells().count()
+    }
+
+    /// Number of facets on the convex hull (edges in 2D, triangles in 3D).
+    pub fn num_hull_facets(&self) -> usize {
+        self.all_cells().filter(|&c| self.is_ghost(c)).count()
+    }
+
+    /// The coordinates of vertex `v` (the caller's, exactly).
+    #[inline]
+    pub fn vertex(&self, v: VertexId) -> D::Point {
+        let mut p = self.points[v.index()];
+        for x in p.as_mut() {
+            *x *= self.unscale;
+        }
+        p
+    }
+
+    /// Input index of vertex `v`.
+    #[inline]
+    pub fn input_index(&self, v: VertexId) -> usize {
+        self.input_index[v.index()] as usize
+    }
+
+    /// Vertex of input point `i` (duplicates map to the vertex of the point they repeat).
+    #[inline]
+    pub fn vertex_of_input(&self, i: usize) -> VertexId {
+        self.vertex_of_input[i]
+    }
+
+    /// Input points that repeat an earlier one: `(duplicate, original)` input indices, sorted.
+    pub fn duplicates(&self) -> &[(usize, usize)] {
+        &self.duplicates
+    }
+
+    /// All live cells, ghost cells included.
+    pub fn all_cells(&self) -> impl Iterator<Item = CellId> + '_ {
+        (0..self.mark.len() as u32)
+            .map(CellId)
+            .filter(|c| self.cells[c.index() * D::C] != VertexId::DEAD)
+    }
+
+    /// The finite cells (triangles or tetrahedra), each positively oriented.
+    pub fn cells(&self) -> impl Iterator<Item = CellId> + '_ {
+        self.all_cells().filter(|&c| !self.is_ghost(c))
+    }
+
+    /// The vertices of cell `c` (one may be [`VertexId::GHOST`] for a hull cell).
+    #[inline]
+    pub fn cell(&self, c: CellId) -> &[VertexId] {
+        &self.cells[c.index() * D::C..(c.index() + 1) * D::C]
+    }
+
+    /// The neighbour of `c` across the facet opposite its local vertex `i`, with that facet.
+    #[inline]
+    pub fn neighbor_facet(&self, c: CellId, i: usize) -> FacetRef {
+        self.neighbors[c.index() * D::C + i]
+    }
+
+    /// The finite neighbour of `c` across the facet opposite its local vertex `i`, or `None` on
+    /// the hull (the paper's `*`).
+    #[inline]
+    pub fn neighbor(&self, c: CellId, i: usize) -> Option<CellId> {
+        let n = self.neighbor_facet(c, i).cell();
+        (!self.is_ghost(n)).then_some(n)
+    }
+
+    /// True for a ghost (hull) cell.
+    #[inline]
+    pub fn is_ghost(&self, c: CellId) -> bool {
+        self.ghost_position(c).is_some()
+    }
+
+    #[inline]
+    fn ghost_position(&self, c: CellId) -> Option<usize> {
+        self.cell(c).iter().position(|v| v.is_ghost())
+    }
+
+    /// One finite or ghost cell containing `v`.
+    pub fn incident_cell(&self, v: VertexId) -> CellId {
+        self.incident[v.index()]
+    }
+
+    /// All cells containing vertex `v` (ghost cells included when `v` is on the hull), by a
+    /// search over neighbours from its incident cell.
+    pub fn cells_around_vertex(&self, v: VertexId) -> Vec<CellId> {
+        self.cells_around(&[v])
+    }
+
+    /// All cells containing every vertex of `simplex` (an edge, or a triangle in 3D): empty if
+    /// the simplex is not in the triangulation.
+    pub fn cells_around(&self, simplex: &[VertexId]) -> Vec<CellId> {
+        let Some(&v) = simplex.first() else {
+            return Vec::new();
+        };
+        if v.is_ghost() || v.index() >= self.points.len() {
+            return Vec::new();
+        }
+        // Star of v: cells containing v, connected through facets containing v.
+        let mut seen = vec![self.incident[v.index()]];
+        let mut i = 0;
+        while i < seen.len() {
+            let c = seen[i];
+            i += 1;
+            let verts = self.cell(c);
+            for (k, &u) in verts.iter().enumerate() {
+                if u != v {
+                    let n = self.neighbor_facet(c, k).cell();
+                    if !seen.contains(&n) {
+                        seen.push(n);
+                    }
+                }
+            }
+        }
+        seen.retain(|&c| simplex.iter().all(|s| self.cell(c).contains(s)));
+        seen
+    }
+
+    /// Whether the edge `a b` is in the triangulation.
+    pub fn has_edge(&self, a: VertexId, b: VertexId) -> bool {
+        a != b && !self.cells_around(&[a, b]).is_empty()
+    }
+
+    /// Whether the triangle `a b c` is in the triangulation (a facet in 3D, a cell in 2D).
+    pub fn has_triangle(&self, a: VertexId, b: VertexId, c: VertexId) -> bool {
+        a != b
+            && b != c
+            && a != c
+            && self
+                .cells_around(&[a, b, c])
+                .iter()
+                .any(|&x| !self.is_ghost(x))
+    }
+
+    /// The finite cells as vertex tuples in the caller's (input) numbering.
+    pub fn cells_in_input_numbering(&self) -> Vec<u32> {
+        let mut out = Vec::with_capacity(self.cells.len());
+        for c in self.cells() {
+            out.extend(self.cell(c).iter().map(|v| self.input_index[v.index()]));
+        }
+        out
+    }
+
+    /// The finite cells' neighbours as indices into [`Triangulation::cells`]' order, `-1` on
+    /// the hull (the `.neigh` convention).
+    pub fn neighbors_in_cell_order(&self) -> Vec<i64> {
+        let mut order = vec![-1i64; self.mark.len()];
+        for (k, c) in self.cells().enumerate() {
+            order[c.index()] = k as i64;
+        }
+        let mut out = Vec::new();
+        for c in self.cells() {
+            for i in 0..D::C {
+                out.push(order[self.neighbor_facet(c, i).cell().index()]);
+            }
+        }
+        out
+    }
+
+    /// Scaled coordinates of vertex `v` (what the predicates see).
+    #[inline]
+    pub(crate) fn point(&self, v: VertexId) -> D::Point {
+        self.points[v.index()]
+    }
+
+    /// Whether vertex `v` (an existing vertex) is in conflict with cell `c`: used by validation.
+    pub(crate) fn vertex_in_conflict(&self, c: CellId, v: VertexId) -> bool {
+        self.in_conflict(c, self.points[v.index()], v)
+    }
+
+    /// The factor from internal to caller's coordinates.
+    pub(crate) fn unscale(&self) -> f64 {
+        self.unscale
+    }
+}
+
+/// The key of the ridge of a new cell opposite its apex and its local vertex `j`: the cell's
+/// other vertices (one in 2D, two in 3D), in a canonical order.
+#[inline]
+fn ridge_key(verts: &[VertexId], apex: usize, j: usize) -> u64 {
+    let mut key = [u32::MAX; 2];
+    let mut n = 0;
+    for (k, v) in verts.iter().enumerate() {
+        if k != apex && k != j {
+            key[n] = v.0;
+            n += 1;
+        }
+    }
+    if n == 1 {
+        u64::from(key[0])
+    } else {
+        let (a, b) = if key[0] < key[1] {
+            (key[0], key[1])
+        } else {
+            (key[1], key[0])
+        };
+        u64::from(a) << 32 | u64::from(b)
+    }
+}
+
+/// Two local indices other than `f` (for swapping), valid for cells of 3 and 4 vertices.
+fn other_two(f: usize) -> (usize, usize) {
+    match f {
+        0 => (1, 2),
+        1 => (0, 2),
+        _ => (0, 1),
+    }
+}
+
+fn tri_scale<D: Dim>(mut p: D::Point, scale: f64) -> D::Point {
+    for x in p.as_mut() {
+        *x *= scale;
+    }
+    p
+}
+
+/// The power-of-two scale that brings the largest coordinate magnitude into `[0.5, 1)`, and
+/// the smallest internal magnitude allowed; checks every coordinate.
+fn scale_for<D: Dim>(points: &[D::Point]) -> Result<(f64, f64), TriangulationError> {
+    let mut largest = 0.0f64;
+    for (index, p) in points.iter().enumerate() {
+        for (axis, &x) in p.as_ref().iter().enumerate() {
+            if !x.is_finite() {
+                return Err(TriangulationError::NonFinite {
+                    index,
+                    axis,
+                    value: x,
+                });
+            }
+            largest = largest.max(x.abs());
+        }
+    }
+    if largest == 0.0 {
+        return Ok((1.0, COORDINATE_RANGE.0));
+    }
+    let exponent = largest.log2().floor() as i32 + 1;
+    let scale = 2f64.powi(-exponent);
+    if !scale.is_normal() || !(1.0 / scale).is_normal() {
+        // Only for magnitudes beyond 2^±1000, where scaling by a power of two is inexact.
+        let index = points
+            .iter()
+            .position(|p| p.as_ref().iter().any(|x| x.abs() == largest))
+            .unwrap_or(0);
+        return Err(TriangulationError::CoordinateRange {
+            index,
+            value: largest,
+            largest,
+        });
+    }
+    let min_magnitude = COORDINATE_RANGE.0;
+    for (index, p) in points.iter().enumerate() {
+        for &x in p.as_ref() {
+            let m = x.abs() * scale;
+            if m != 0.0 && m < min_magnitude {
+                return Err(TriangulationError::CoordinateRange {
+                    index,
+                    value: x,
+                    largest,
+                });
+            }
+        }
+    }
+    Ok((scale, min_magnitude))
+}
+
+fn count_distinct<D: Dim>(points: &[D::Point]) -> usize {
+    let mut keys: Vec<Vec<u64>> = points
+        .iter()
+        .map(|p| p.as_ref().iter().map(|x| (x + 0.0).to_bits()).collect())
+        .collect();
+    keys.sort_unstable();
+    keys.dedup();
+    keys.len()
+}
