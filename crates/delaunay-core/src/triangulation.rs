@@ -27,6 +27,7 @@ use crate::error::TriangulationError;
 use crate::ids::{CellId, FacetRef, VertexId};
 use crate::sort::{brio_order, SplitMix};
 use delmesh_predicates::{Sign, COORDINATE_RANGE};
+use rayon::prelude::*;
 use std::marker::PhantomData;
 
 /// Most points a triangulation holds: cells (about 6.8 per point in 3D) must fit in the 30 bits
@@ -61,6 +62,15 @@ impl Insertion {
     }
 }
 
+/// One cell: its vertices (forming points) and the facets of its neighbours across the facet
+/// opposite each vertex. 2D cells leave the fourth entries unused, so both dimensions share one
+/// layout: 32 bytes, two cells per cache line.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Simplex {
+    pub(crate) v: [VertexId; 4],
+    pub(crate) n: [FacetRef; 4],
+}
+
 /// Scratch buffers of one insertion, kept between insertions so that inserting allocates
 /// nothing once they have grown.
 #[derive(Clone, Debug, Default)]
@@ -72,8 +82,33 @@ pub(crate) struct Cavity {
     /// Boundary facets: the new cell's vertices (the cavity cell's vertices with the new point
     /// at `apex`), and the facet of the outside neighbour it is glued to.
     boundary: Vec<BoundaryFacet>,
-    /// Matches the facets shared by new cells.
+    /// Matches the facets shared by new cells (huge cavities).
     ridges: RidgeTable,
+    /// The cavity's boundary vertices, indexed by their local number.
+    verts: Vec<VertexId>,
+    /// Local numbers of each boundary facet's vertices.
+    local_ids: Vec<[u32; 4]>,
+    /// Dense directed-ridge table: `nv × nv` (3D) or `2 × nv` (2D) entries.
+    ridge_slots: Vec<FacetRef>,
+    /// The cells made for the boundary facets, in the same order.
+    new_cells: Vec<CellId>,
+}
+
+/// Largest dense ridge table (entries); bigger cavities use the hash table.
+const DENSE_RIDGES: usize = 1 << 16;
+
+/// Local vertex positions of the facet opposite `apex`, ordered counter-clockwise as seen from
+/// the apex: `orient(x[f0], x[f1], x[f2], x[apex]) > 0` for a positive tetrahedron, and the
+/// counter-clockwise edge `f0 → f1` of a triangle. Neighbouring new cells traverse their
+/// shared ridge in opposite directions, which is how they find each other.
+#[inline]
+fn facet_of<D: Dim>(apex: usize) -> [usize; 3] {
+    const FACET3: [[usize; 3]; 4] = [[1, 3, 2], [0, 2, 3], [0, 3, 1], [0, 1, 2]];
+    if D::N == 2 {
+        [(apex + 1) % 3, (apex + 2) % 3, usize::MAX]
+    } else {
+        FACET3[apex]
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -145,14 +180,14 @@ pub struct Triangulation<D: Dim> {
     pub(crate) vertex_of_input: Vec<VertexId>,
     /// `(duplicate input index, input index of the point it repeats)`.
     pub(crate) duplicates: Vec<(usize, usize)>,
-    /// `C` vertices per cell.
-    pub(crate) cells: Vec<VertexId>,
-    /// `C` neighbours per cell.
-    pub(crate) neighbors: Vec<FacetRef>,
+    /// Vertices and neighbours of each cell, side by side so one cache line holds both.
+    pub(crate) simplices: Vec<Simplex>,
     /// Free cell slots.
     pub(crate) free: Vec<CellId>,
     /// One cell containing each vertex.
     pub(crate) incident: Vec<CellId>,
+    /// Scratch: each vertex's local number in the current cavity (see `local_id`).
+    local: Vec<u32>,
     /// Per-cell visit stamps for the cavity search.
     pub(crate) mark: Vec<u32>,
     pub(crate) stamp: u32,
@@ -190,13 +225,16 @@ impl<D: Dim> Triangulation<D> {
         let (scale, min_magnitude) = scale_for::<D>(points)?;
         let order = brio_order::<D>(points);
         let mut tri = Self::empty(scale, min_magnitude, points.len());
-        let scaled = |i: u32| tri_scale::<D>(points[i as usize], scale);
+        // Gathered once, in parallel, so insertion reads its points sequentially.
+        let ordered: Vec<D::Point> = order
+            .par_iter()
+            .map(|&i| tri_scale::<D>(points[i as usize], scale))
+            .collect();
 
         // The first simplex: the first D + 1 affinely independent points in insertion order.
         let mut first: Vec<usize> = Vec::with_capacity(D::C); // positions in `order`
         let mut first_pts: Vec<D::Point> = Vec::with_capacity(D::C);
-        for (pos, &i) in order.iter().enumerate() {
-            let p = scaled(i);
+        for (pos, &p) in ordered.iter().enumerate() {
             first_pts.push(p);
             if D::independent(&first_pts) {
                 first.push(pos);
@@ -228,7 +266,7 @@ impl<D: Dim> Triangulation<D> {
             });
         }
         for &pos in &first {
-            tri.push_vertex(scaled(order[pos]), order[pos]);
+            tri.push_vertex(ordered[pos], order[pos]);
         }
         tri.make_first_cell();
 
@@ -241,7 +279,7 @@ impl<D: Dim> Triangulation<D> {
                 skip.next();
                 continue;
             }
-            match tri.insert_scaled(scaled(i), i) {
+            match tri.insert_scaled(ordered[pos], i) {
                 Insertion::Inserted(_) => {}
                 Insertion::Duplicate(v) => {
                     tri.vertex_of_input[i as usize] = v;
@@ -273,10 +311,10 @@ impl<D: Dim> Triangulation<D> {
             input_index: Vec::with_capacity(n),
             vertex_of_input: vec![VertexId::GHOST; n],
             duplicates: Vec::new(),
-            cells: Vec::with_capacity(n_cells * D::C),
-            neighbors: Vec::with_capacity(n_cells * D::C),
+            simplices: Vec::with_capacity(n_cells),
             free: Vec::new(),
             incident: Vec::with_capacity(n),
+            local: Vec::with_capacity(n),
             mark: Vec::with_capacity(n_cells),
             stamp: 0,
             last: CellId(0),
@@ -298,6 +336,7 @@ impl<D: Dim> Triangulation<D> {
             self.vertex_of_input[input as usize] = v;
         }
         self.incident.push(CellId(0));
+        self.local.push(u32::MAX);
         v
     }
 
@@ -413,14 +452,14 @@ impl<D: Dim> Triangulation<D> {
     pub(crate) fn locate_from(&mut self, p: D::Point, start: CellId) -> Location {
         let mut c = start;
         if let Some(g) = self.ghost_position(c) {
-            c = self.neighbors[c.index() * D::C + g].cell();
+            c = self.simplices[c.index()].n[g].cell();
         }
         let mut pts = [D::Point::default(); 4];
         let mut came_from = usize::MAX;
         'walk: loop {
-            let base = c.index() * D::C;
+            let cell = self.simplices[c.index()];
             for k in 0..D::C {
-                pts[k] = self.points[self.cells[base + k].index()];
+                pts[k] = self.points[cell.v[k].index()];
             }
             let offset = self.rng.below(D::C);
             for step in 0..D::C {
@@ -433,7 +472,7 @@ impl<D: Dim> Triangulation<D> {
                 let s = D::orient(&pts[..D::C]);
                 pts[f] = saved;
                 if s == Sign::Negative {
-                    let next = self.neighbors[base + f];
+                    let next = cell.n[f];
                     c = next.cell();
                     came_from = next.facet();
                     if self.ghost_position(c).is_some() {
@@ -446,7 +485,7 @@ impl<D: Dim> Triangulation<D> {
             // The point is in the closed cell: at a vertex, or inside (then in conflict).
             for k in 0..D::C {
                 if pts[k] == p {
-                    return Location::Vertex(self.cells[base + k]);
+                    return Location::Vertex(cell.v[k]);
                 }
             }
             return Location::Cell(c);
@@ -460,12 +499,12 @@ impl<D: Dim> Triangulation<D> {
     /// plane (line) is decided by the finite cell across the facet, so both agree exactly.
     #[inline]
     fn in_conflict(&self, c: CellId, p: D::Point, v: VertexId) -> bool {
-        let base = c.index() * D::C;
+        let cell = &self.simplices[c.index()];
         let mut pts = [D::Point::default(); 5];
         let mut ids = [0u32; 5];
         let mut ghost = usize::MAX;
         for k in 0..D::C {
-            let u = self.cells[base + k];
+            let u = cell.v[k];
             if u.is_ghost() {
                 ghost = k;
                 pts[k] = p;
@@ -483,7 +522,7 @@ impl<D: Dim> Triangulation<D> {
             Sign::Positive => true,
             Sign::Negative => false,
             Sign::Zero => {
-                let finite = self.neighbors[base + ghost].cell();
+                let finite = cell.n[ghost].cell();
                 self.in_conflict(finite, p, v)
             }
         }
@@ -511,9 +550,9 @@ impl<D: Dim> Triangulation<D> {
         cavity.cells.push(start);
         self.mark[start.index()] = inside;
         while let Some(c) = cavity.stack.pop() {
-            let base = c.index() * D::C;
+            let cell = self.simplices[c.index()];
             for f in 0..D::C {
-                let across = self.neighbors[base + f];
+                let across = cell.n[f];
                 let n = across.cell();
                 let m = self.mark[n.index()];
                 if m == inside {
@@ -528,8 +567,7 @@ impl<D: Dim> Triangulation<D> {
                     }
                     self.mark[n.index()] = outside;
                 }
-                let mut vertices = [VertexId::GHOST; 4];
-                vertices[..D::C].copy_from_slice(&self.cells[base..base + D::C]);
+                let mut vertices = cell.v;
                 vertices[f] = v;
                 cavity.boundary.push(BoundaryFacet {
                     vertices,
@@ -546,9 +584,107 @@ impl<D: Dim> Triangulation<D> {
     fn fill_cavity(&mut self) {
         let mut cavity = std::mem::take(&mut self.cavity);
         for &c in &cavity.cells {
-            self.cells[c.index() * D::C] = VertexId::DEAD;
+            self.simplices[c.index()].v[0] = VertexId::DEAD;
             self.free.push(c);
         }
+        // Number the cavity's boundary vertices 0..nv (a sparse set over `self.local`, so
+        // nothing needs clearing), then pair the new cells' shared facets by directed ridges.
+        cavity.verts.clear();
+        cavity.local_ids.clear();
+        for b in &cavity.boundary {
+            let mut ids = [0u32; 4];
+            for (k, id) in ids.iter_mut().enumerate().take(D::C) {
+                if k != b.apex as usize {
+                    *id = self.local_id(&mut cavity.verts, b.vertices[k]);
+                }
+            }
+            cavity.local_ids.push(ids);
+        }
+        let nv = cavity.verts.len();
+        let dense = if D::N == 2 { 2 * nv } else { nv * nv };
+        if dense > DENSE_RIDGES {
+            self.cavity = cavity;
+            return self.fill_cavity_hashed();
+        }
+        if cavity.ridge_slots.len() < dense {
+            cavity.ridge_slots.resize(dense, FacetRef::NONE);
+        }
+        cavity.new_cells.clear();
+        for (b, ids) in cavity.boundary.iter().zip(&cavity.local_ids) {
+            let c = self.alloc_cell(&b.vertices[..D::C]);
+            cavity.new_cells.push(c);
+            let apex = b.apex as usize;
+            self.link(FacetRef::new(c, apex), b.outside);
+            for &u in &b.vertices[..D::C] {
+                if !u.is_ghost() {
+                    self.incident[u.index()] = c;
+                }
+            }
+            // Register this cell's side facets under their directed ridges.
+            let f = facet_of::<D>(apex);
+            if D::N == 2 {
+                // Boundary edge u0 → u1: the facet through u0 (opposite u1) is "starts at u0",
+                // the facet through u1 (opposite u0) is "ends at u1".
+                cavity.ridge_slots[2 * ids[f[0]] as usize] = FacetRef::new(c, f[1]);
+                cavity.ridge_slots[2 * ids[f[1]] as usize + 1] = FacetRef::new(c, f[0]);
+            } else {
+                for k in 0..3 {
+                    let (a, b2) = (ids[f[(k + 1) % 3]], ids[f[(k + 2) % 3]]);
+                    cavity.ridge_slots[(a as usize) * nv + b2 as usize] = FacetRef::new(c, f[k]);
+                }
+            }
+        }
+        // Each directed ridge's reverse belongs to the new cell across it.
+        let mut last_finite = None;
+        for ((b, ids), &c) in cavity
+            .boundary
+            .iter()
+            .zip(&cavity.local_ids)
+            .zip(&cavity.new_cells)
+        {
+            let f = facet_of::<D>(b.apex as usize);
+            let n = &mut self.simplices[c.index()].n;
+            if D::N == 2 {
+                n[f[0]] = cavity.ridge_slots[2 * ids[f[1]] as usize];
+                n[f[1]] = cavity.ridge_slots[2 * ids[f[0]] as usize + 1];
+            } else {
+                for k in 0..3 {
+                    let (a, b2) = (ids[f[(k + 1) % 3]], ids[f[(k + 2) % 3]]);
+                    n[f[k]] = cavity.ridge_slots[(b2 as usize) * nv + a as usize];
+                }
+            }
+            if !b.vertices[..D::C].contains(&VertexId::GHOST) {
+                last_finite = Some(c);
+            }
+        }
+        self.last = last_finite
+            .or(cavity.new_cells.last().copied())
+            .expect("a cavity has at least one boundary facet: a bug in delmesh");
+        self.cavity = cavity;
+    }
+
+    /// The local number of `u` among the cavity's boundary vertices, assigned on first sight.
+    #[inline]
+    fn local_id(&mut self, verts: &mut Vec<VertexId>, u: VertexId) -> u32 {
+        if u.is_ghost() {
+            if let Some(k) = verts.iter().position(|w| w.is_ghost()) {
+                return k as u32;
+            }
+        } else {
+            let k = self.local[u.index()];
+            if (k as usize) < verts.len() && verts[k as usize] == u {
+                return k;
+            }
+            self.local[u.index()] = verts.len() as u32;
+        }
+        verts.push(u);
+        verts.len() as u32 - 1
+    }
+
+    /// [`Self::fill_cavity`] for huge cavities (degenerate inputs), where a dense ridge table
+    /// would be too large: the new cells are paired through a hash table instead.
+    fn fill_cavity_hashed(&mut self) {
+        let mut cavity = std::mem::take(&mut self.cavity);
         cavity.ridges.reset(cavity.boundary.len() * (D::C - 1));
         let mut last = None;
         let mut last_finite = None;
@@ -556,8 +692,7 @@ impl<D: Dim> Triangulation<D> {
             let c = self.alloc_cell(&b.vertices[..D::C]);
             let apex = b.apex as usize;
             self.link(FacetRef::new(c, apex), b.outside);
-            for k in 0..D::C {
-                let u = b.vertices[k];
+            for &u in &b.vertices[..D::C] {
                 if !u.is_ghost() {
                     self.incident[u.index()] = c;
                 }
@@ -571,7 +706,7 @@ impl<D: Dim> Triangulation<D> {
                 }
             }
             last = Some(c);
-            if b.vertices[..D::C].iter().all(|u| !u.is_ghost()) {
+            if !b.vertices[..D::C].contains(&VertexId::GHOST) {
                 last_finite = Some(c);
             }
         }
@@ -600,27 +735,28 @@ impl<D: Dim> Triangulation<D> {
 
     #[inline]
     fn link(&mut self, a: FacetRef, b: FacetRef) {
-        self.neighbors[a.cell().index() * D::C + a.facet()] = b;
-        self.neighbors[b.cell().index() * D::C + b.facet()] = a;
+        self.simplices[a.cell().index()].n[a.facet()] = b;
+        self.simplices[b.cell().index()].n[b.facet()] = a;
     }
 
     fn alloc_cell(&mut self, verts: &[VertexId]) -> CellId {
         if let Some(c) = self.free.pop() {
-            let base = c.index() * D::C;
-            self.cells[base..base + D::C].copy_from_slice(verts);
+            self.simplices[c.index()].v[..D::C].copy_from_slice(verts);
             return c;
         }
         let c = CellId(self.mark.len() as u32);
-        if self.cells.len() == self.cells.capacity() {
+        if self.simplices.len() == self.simplices.capacity() {
             // Grow by a quarter rather than doubling: the arrays are most of the memory.
-            let extra = (self.cells.len() / 4).max(64 * D::C);
-            self.cells.reserve_exact(extra);
-            self.neighbors.reserve_exact(extra);
-            self.mark.reserve_exact(extra / D::C);
+            let extra = (self.simplices.len() / 4).max(64);
+            self.simplices.reserve_exact(extra);
+            self.mark.reserve_exact(extra);
         }
-        self.cells.extend_from_slice(verts);
-        self.neighbors
-            .extend(std::iter::repeat_n(FacetRef::NONE, D::C));
+        let mut simplex = Simplex {
+            v: [VertexId::GHOST; 4],
+            n: [FacetRef::NONE; 4],
+        };
+        simplex.v[..D::C].copy_from_slice(verts);
+        self.simplices.push(simplex);
         self.mark.push(0);
         c
     }
@@ -678,7 +814,7 @@ impl<D: Dim> Triangulation<D> {
     pub fn all_cells(&self) -> impl Iterator<Item = CellId> + '_ {
         (0..self.mark.len() as u32)
             .map(CellId)
-            .filter(|c| self.cells[c.index() * D::C] != VertexId::DEAD)
+            .filter(|c| self.simplices[c.index()].v[0] != VertexId::DEAD)
     }
 
     /// The finite cells (triangles or tetrahedra), each positively oriented.
@@ -689,13 +825,13 @@ impl<D: Dim> Triangulation<D> {
     /// The vertices of cell `c` (one may be [`VertexId::GHOST`] for a hull cell).
     #[inline]
     pub fn cell(&self, c: CellId) -> &[VertexId] {
-        &self.cells[c.index() * D::C..(c.index() + 1) * D::C]
+        &self.simplices[c.index()].v[..D::C]
     }
 
     /// The neighbour of `c` across the facet opposite its local vertex `i`, with that facet.
     #[inline]
     pub fn neighbor_facet(&self, c: CellId, i: usize) -> FacetRef {
-        self.neighbors[c.index() * D::C + i]
+        self.simplices[c.index()].n[i]
     }
 
     /// The finite neighbour of `c` across the facet opposite its local vertex `i`, or `None` on
@@ -775,7 +911,7 @@ impl<D: Dim> Triangulation<D> {
 
     /// The finite cells as vertex tuples in the caller's (input) numbering.
     pub fn cells_in_input_numbering(&self) -> Vec<u32> {
-        let mut out = Vec::with_capacity(self.cells.len());
+        let mut out = Vec::with_capacity(self.simplices.len() * D::C);
         for c in self.cells() {
             out.extend(self.cell(c).iter().map(|v| self.input_index[v.index()]));
         }

@@ -40,8 +40,8 @@ impl<D: Dim> Triangulation<D> {
             for f in 0..D::C {
                 let across = self.neighbor_facet(c, f);
                 let m = across.cell();
-                if m.index() * D::C >= self.cells.len()
-                    || self.cells[m.index() * D::C] == VertexId::DEAD
+                if m.index() >= self.simplices.len()
+                    || self.simplices[m.index()].v[0] == VertexId::DEAD
                 {
                     return Err(ValidationError::AsymmetricNeighbor {
                         cell: c.0,
@@ -80,7 +80,7 @@ impl<D: Dim> Triangulation<D> {
         }
         for v in 0..n {
             let c = self.incident_cell(VertexId(v as u32));
-            if c.index() * D::C >= self.cells.len() || !self.cell(c).contains(&VertexId(v as u32)) {
+            if c.index() >= self.simplices.len() || !self.cell(c).contains(&VertexId(v as u32)) {
                 return Err(ValidationError::Incidence { vertex: v as u32 });
             }
         }

@@ -38,7 +38,7 @@ impl<D: Dim> VoronoiDiagram<D> {
             })
             .collect();
         cells.sort_unstable();
-        let mut number = vec![u32::MAX; tri.cells.len() / D::C];
+        let mut number = vec![u32::MAX; tri.simplices.len()];
         for (k, (_, c)) in cells.iter().enumerate() {
             number[c.index()] = k as u32;
         }

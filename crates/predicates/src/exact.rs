@@ -1,7 +1,14 @@
 //! The four classic predicates, exact, with delmesh's sign conventions.
 //!
-//! Thin wrappers over [`robust`] (Shewchuk's adaptive predicates): they fix the sign convention
+//! Wrappers over [`robust`] (Shewchuk's adaptive predicates) that fix the sign convention
 //! (positive volume = positive orientation in 3D) and return a [`Sign`].
+//!
+//! In front of each sits a *semi-static filter*: the determinant in floating point, accepted
+//! when it exceeds an error bound built from the largest coordinate difference `M` instead of
+//! Shewchuk's permanent (which costs as much as the determinant). The bound is Shewchuk's
+//! stage-A bound (`errboundA × permanent`, Shewchuk 1997, §4.3) with the permanent replaced by
+//! its upper bound `k·M^d`, so whatever the filter accepts, stage A would have accepted too.
+//! Anything closer to degenerate falls through to `robust`, which is exact.
 
 use crate::Sign;
 use robust::{Coord, Coord3D};
@@ -20,10 +27,21 @@ fn c3(p: [f64; 3]) -> Coord3D<f64> {
     }
 }
 
+/// Below this largest difference the bounds `k·M^d` could underflow: go exact directly.
+const TINY: f64 = 1e-30;
+
 /// Orientation of the triangle `a, b, c`: [`Sign::Positive`] if counter-clockwise,
 /// [`Sign::Negative`] if clockwise, [`Sign::Zero`] if the three points are collinear.
 #[inline]
 pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
+    let (acx, acy) = (a[0] - c[0], a[1] - c[1]);
+    let (bcx, bcy) = (b[0] - c[0], b[1] - c[1]);
+    let det = acx * bcy - acy * bcx;
+    let m = fmax(fmax(acx.abs(), acy.abs()), fmax(bcx.abs(), bcy.abs()));
+    // Shewchuk: ccwerrboundA = (3 + 16ε)ε, permanent ≤ 2M².
+    if m > TINY && det.abs() > 7.0e-16 * (m * m) {
+        return Sign::of(det);
+    }
     Sign::of(robust::orient2d(c2(a), c2(b), c2(c)))
 }
 
@@ -33,6 +51,17 @@ pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
 /// when the four points are coplanar.
 #[inline]
 pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
+    let ad = [a[0] - d[0], a[1] - d[1], a[2] - d[2]];
+    let bd = [b[0] - d[0], b[1] - d[1], b[2] - d[2]];
+    let cd = [c[0] - d[0], c[1] - d[1], c[2] - d[2]];
+    // det[ad; bd; cd] is the volume of (a, b, c, d) with robust's sign (−ours).
+    let det = ad[0] * (bd[1] * cd[2] - bd[2] * cd[1]) - ad[1] * (bd[0] * cd[2] - bd[2] * cd[0])
+        + ad[2] * (bd[0] * cd[1] - bd[1] * cd[0]);
+    let m = fmax(fmax(max_abs(&ad), max_abs(&bd)), max_abs(&cd));
+    // Shewchuk: o3derrboundA = (7 + 56ε)ε, permanent ≤ 6M³.
+    if m > TINY && det.abs() > 4.8e-15 * (m * m * m) {
+        return Sign::of(-det);
+    }
     // robust::orient3d is positive when d is *below* the plane of a counter-clockwise a, b, c,
     // i.e. when the volume above is negative.
     Sign::of(-robust::orient3d(c3(a), c3(b), c3(c), c3(d)))
@@ -44,6 +73,23 @@ pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
 /// Precondition: `orient2d(a, b, c)` is positive; otherwise the sign is reversed.
 #[inline]
 pub fn incircle(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> Sign {
+    let (adx, ady) = (a[0] - d[0], a[1] - d[1]);
+    let (bdx, bdy) = (b[0] - d[0], b[1] - d[1]);
+    let (cdx, cdy) = (c[0] - d[0], c[1] - d[1]);
+    let alift = adx * adx + ady * ady;
+    let blift = bdx * bdx + bdy * bdy;
+    let clift = cdx * cdx + cdy * cdy;
+    let det = alift * (bdx * cdy - cdx * bdy)
+        + blift * (cdx * ady - adx * cdy)
+        + clift * (adx * bdy - bdx * ady);
+    let m = fmax(
+        fmax(fmax(adx.abs(), ady.abs()), fmax(bdx.abs(), bdy.abs())),
+        fmax(cdx.abs(), cdy.abs()),
+    );
+    // Shewchuk: iccerrboundA = (10 + 96ε)ε, permanent ≤ 12M⁴.
+    if m > TINY && det.abs() > 1.4e-14 * ((m * m) * (m * m)) {
+        return Sign::of(det);
+    }
     Sign::of(robust::incircle(c2(a), c2(b), c2(c), c2(d)))
 }
 
@@ -53,8 +99,50 @@ pub fn incircle(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> Sign {
 /// Precondition: `orient3d(a, b, c, d)` is positive; otherwise the sign is reversed.
 #[inline]
 pub fn insphere(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3], e: [f64; 3]) -> Sign {
+    let ae = [a[0] - e[0], a[1] - e[1], a[2] - e[2]];
+    let be = [b[0] - e[0], b[1] - e[1], b[2] - e[2]];
+    let ce = [c[0] - e[0], c[1] - e[1], c[2] - e[2]];
+    let de = [d[0] - e[0], d[1] - e[1], d[2] - e[2]];
+    // 2×2 minors of the x, y columns.
+    let ab = ae[0] * be[1] - be[0] * ae[1];
+    let bc = be[0] * ce[1] - ce[0] * be[1];
+    let cd = ce[0] * de[1] - de[0] * ce[1];
+    let da = de[0] * ae[1] - ae[0] * de[1];
+    let ac = ae[0] * ce[1] - ce[0] * ae[1];
+    let bd = be[0] * de[1] - de[0] * be[1];
+    // 3×3 minors with the z column.
+    let abc = ae[2] * bc - be[2] * ac + ce[2] * ab;
+    let bcd = be[2] * cd - ce[2] * bd + de[2] * bc;
+    let cda = ce[2] * da + de[2] * ac + ae[2] * cd;
+    let dab = de[2] * ab + ae[2] * bd + be[2] * da;
+    let lift = |p: [f64; 3]| p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+    let det = (lift(de) * abc - lift(ce) * dab) + (lift(be) * cda - lift(ae) * bcd);
+    let m = fmax(
+        fmax(max_abs(&ae), max_abs(&be)),
+        fmax(max_abs(&ce), max_abs(&de)),
+    );
+    // Shewchuk: isperrboundA = (16 + 224ε)ε, permanent ≤ 72M⁵. `det` has robust's sign.
+    let m2 = m * m;
+    if m > TINY && det.abs() > 1.3e-13 * (m2 * m2 * m) {
+        return Sign::of(-det);
+    }
     // robust::insphere expects robust's positive orientation, which is our negative one.
     Sign::of(-robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e)))
+}
+
+/// `max` without NaN handling (the inputs are finite): one instruction instead of three.
+#[inline(always)]
+fn fmax(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+#[inline(always)]
+fn max_abs(p: &[f64; 3]) -> f64 {
+    fmax(fmax(p[0].abs(), p[1].abs()), p[2].abs())
 }
 
 #[cfg(test)]
@@ -92,6 +180,59 @@ mod tests {
         assert_eq!(insphere(a, b, c, d, [0.5, 0.5, 0.5]), Sign::Positive);
         assert_eq!(insphere(a, b, c, d, [3.0, 3.0, 3.0]), Sign::Negative);
         assert_eq!(insphere(a, b, c, d, [2.0, 2.0, 0.0]), Sign::Zero);
+    }
+
+    /// The filters must agree with robust's exact answers everywhere, in particular near
+    /// degeneracies, where they must fall through instead of guessing.
+    #[test]
+    fn filters_agree_with_exact_predicates() {
+        let mut s = 0x1234_5678_9abc_def0u64;
+        let mut rnd = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for round in 0..200_000 {
+            // Mix generic points with nearly degenerate ones: points on a line/plane/sphere
+            // perturbed by a few ulps, and tiny/huge scales.
+            let scale = [1.0, 1e-12, 1e12, 3.0e-7][round % 4];
+            let mut p: Vec<[f64; 3]> = (0..5)
+                .map(|_| [rnd() * scale, rnd() * scale, rnd() * scale])
+                .collect();
+            if round % 3 == 1 {
+                // e on the line / plane through the others, then nudged.
+                let t = rnd();
+                for k in 0..3 {
+                    p[4][k] = p[0][k] + t * (p[1][k] - p[0][k]);
+                    p[3][k] = p[0][k] + t * (p[1][k] - p[0][k]) + (1.0 - t) * (p[2][k] - p[0][k]);
+                }
+                p[2][0] = p[0][0] + 0.5 * (p[1][0] - p[0][0]);
+                p[2][1] = p[0][1] + 0.5 * (p[1][1] - p[0][1]);
+            }
+            let [a, b, c, d, e] = [p[0], p[1], p[2], p[3], p[4]];
+            let a2 = [a[0], a[1]];
+            let b2 = [b[0], b[1]];
+            let c2_ = [c[0], c[1]];
+            let d2 = [d[0], d[1]];
+            let e2 = [e[0], e[1]];
+            assert_eq!(
+                orient2d(a2, b2, e2),
+                Sign::of(robust::orient2d(c2(a2), c2(b2), c2(e2)))
+            );
+            assert_eq!(
+                orient3d(a, b, c, e),
+                Sign::of(-robust::orient3d(c3(a), c3(b), c3(c), c3(e)))
+            );
+            assert_eq!(
+                incircle(a2, b2, c2_, d2),
+                Sign::of(robust::incircle(c2(a2), c2(b2), c2(c2_), c2(d2)))
+            );
+            assert_eq!(
+                insphere(a, b, c, d, e),
+                Sign::of(-robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e)))
+            );
+        }
     }
 
     #[test]
