@@ -1,0 +1,358 @@
+//! The kernel's contract on many kinds of point sets: `validate()` (adjacency symmetry,
+//! orientation, exact empty circumsphere with the perturbation, Euler's relation), the exact
+//! global emptiness check on small sets, hull and volume conservation, duplicates, errors.
+
+mod common;
+
+use common::*;
+use delmesh_delaunay_core::*;
+use delmesh_predicates::{orient2d, orient3d, Sign};
+use proptest::prelude::*;
+
+fn area(t: &Triangulation2) -> f64 {
+    t.cells()
+        .map(|c| {
+            let v: Vec<[f64; 2]> = t.cell(c).iter().map(|&v| t.vertex(v)).collect();
+            0.5 * ((v[1][0] - v[0][0]) * (v[2][1] - v[0][1])
+                - (v[1][1] - v[0][1]) * (v[2][0] - v[0][0]))
+        })
+        .sum()
+}
+
+/// Six times the total volume (exact for integer coordinates of moderate size).
+fn volume6(t: &Triangulation3) -> f64 {
+    t.cells()
+        .map(|c| {
+            let v: Vec<[f64; 3]> = t.cell(c).iter().map(|&v| t.vertex(v)).collect();
+            let d = |i: usize| [v[i][0] - v[0][0], v[i][1] - v[0][1], v[i][2] - v[0][2]];
+            let (a, b, e) = (d(1), d(2), d(3));
+            (a[0] * (b[1] * e[2] - b[2] * e[1]) - a[1] * (b[0] * e[2] - b[2] * e[0])
+                + a[2] * (b[0] * e[1] - b[1] * e[0]))
+        })
+        .sum()
+}
+
+/// Every input point is a vertex or a reported duplicate of one with the same coordinates.
+fn check_vertices<D: Dim>(t: &Triangulation<D>, pts: &[D::Point]) {
+    assert_eq!(t.num_input_points(), pts.len());
+    let dups: std::collections::HashMap<usize, usize> = t.duplicates().iter().copied().collect();
+    for (i, p) in pts.iter().enumerate() {
+        let v = t.vertex_of_input(i);
+        assert_eq!(&t.vertex(v), p, "input {i}");
+        if let Some(&orig) = dups.get(&i) {
+            assert_eq!(t.input_index(v), orig);
+        } else {
+            assert_eq!(t.input_index(v), i);
+        }
+    }
+    assert_eq!(t.num_vertices() + t.duplicates().len(), pts.len());
+}
+
+#[test]
+fn random_2d_sets_are_delaunay() {
+    for (n, seed) in [(3, 1), (4, 2), (10, 3), (100, 4), (2000, 5)] {
+        let pts = uniform2(n, seed);
+        let t = Triangulation2::new(&pts).unwrap();
+        t.validate().unwrap();
+        if n <= 100 {
+            t.validate_globally().unwrap();
+        }
+        check_vertices(&t, &pts);
+    }
+}
+
+#[test]
+fn random_3d_sets_are_delaunay() {
+    for (n, seed) in [(4, 1), (5, 2), (10, 3), (100, 4), (3000, 5)] {
+        let pts = uniform3(n, seed);
+        let t = Triangulation3::new(&pts).unwrap();
+        t.validate().unwrap();
+        if n <= 100 {
+            t.validate_globally().unwrap();
+        }
+        check_vertices(&t, &pts);
+    }
+}
+
+#[test]
+fn grids_are_triangulated_consistently() {
+    // Every unit square (cube) is co-circular (co-spherical): only the perturbation decides.
+    let pts = grid2(30);
+    let t = Triangulation2::new(&pts).unwrap();
+    t.validate().unwrap();
+    assert_eq!(t.num_cells(), 2 * 29 * 29);
+    assert_eq!(area(&t), 29.0 * 29.0);
+    let pts = grid3(12);
+    let t = Triangulation3::new(&pts).unwrap();
+    t.validate().unwrap();
+    assert_eq!(volume6(&t), 6.0 * 11.0f64.powi(3));
+    let small = grid3(4);
+    let t = Triangulation3::new(&small).unwrap();
+    t.validate_globally().unwrap();
+}
+
+#[test]
+fn cocircular_and_cospherical_sets() {
+    let pts = circle_points();
+    assert!(pts.len() > 30, "{}", pts.len());
+    let t = Triangulation2::new(&pts).unwrap();
+    t.validate().unwrap();
+    t.validate_globally().unwrap();
+    // All points on the hull: h = n, T = n − 2.
+    assert_eq!(t.num_hull_facets(), pts.len());
+    assert_eq!(t.num_cells(), pts.len() - 2);
+
+    let pts = sphere_points();
+    assert!(pts.len() > 100, "{}", pts.len());
+    let t = Triangulation3::new(&pts).unwrap();
+    t.validate().unwrap();
+    t.validate_globally().unwrap();
+    check_vertices(&t, &pts);
+}
+
+#[test]
+fn clustered_and_extreme_scales() {
+    let pts = clustered3(4000, 9);
+    Triangulation3::new(&pts).unwrap().validate().unwrap();
+    for scale in [1e-200, 1e-30, 1e30, 1e250] {
+        let pts: Vec<[f64; 3]> = uniform3(500, 10)
+            .iter()
+            .map(|p| p.map(|x| x * scale))
+            .collect();
+        let t = Triangulation3::new(&pts).unwrap();
+        t.validate().unwrap();
+        check_vertices(&t, &pts);
+        let pts: Vec<[f64; 2]> = uniform2(500, 11)
+            .iter()
+            .map(|p| p.map(|x| x * scale))
+            .collect();
+        let t = Triangulation2::new(&pts).unwrap();
+        t.validate().unwrap();
+        check_vertices(&t, &pts);
+    }
+    // Far from the origin: large coordinates, tiny differences.
+    let pts: Vec<[f64; 3]> = uniform3(500, 12)
+        .iter()
+        .map(|p| p.map(|x| 1e6 + x * 1e-3))
+        .collect();
+    Triangulation3::new(&pts).unwrap().validate().unwrap();
+}
+
+#[test]
+fn thin_slab_and_nearly_coplanar() {
+    let pts: Vec<[f64; 3]> = uniform3(3000, 13)
+        .iter()
+        .map(|p| [p[0], p[1], p[2] * 1e-9])
+        .collect();
+    Triangulation3::new(&pts).unwrap().validate().unwrap();
+    // A plane of grid points plus one point off it.
+    let mut pts: Vec<[f64; 3]> = grid2(15).iter().map(|p| [p[0], p[1], 0.0]).collect();
+    pts.push([7.3, 7.1, 1.0]);
+    let t = Triangulation3::new(&pts).unwrap();
+    t.validate().unwrap();
+    t.validate_globally().unwrap();
+}
+
+#[test]
+fn duplicates_are_merged_and_reported() {
+    let mut pts = uniform2(200, 14);
+    let copies: Vec<[f64; 2]> = pts[..50].to_vec();
+    pts.extend(copies);
+    pts.push([0.0, 0.0]);
+    pts.push([-0.0, 0.0]); // the same point as the previous one
+    let t = Triangulation2::new(&pts).unwrap();
+    t.validate().unwrap();
+    check_vertices(&t, &pts);
+    assert_eq!(t.duplicates().len(), 51);
+    for &(dup, orig) in t.duplicates() {
+        assert_eq!(pts[dup], pts[orig]);
+    }
+}
+
+#[test]
+fn bad_input_is_an_error_not_a_panic() {
+    let e = Triangulation2::new(&[[0.0, 0.0], [1.0, f64::NAN], [0.0, 1.0]]);
+    assert!(
+        matches!(e, Err(TriangulationError::NonFinite { index: 1, axis: 1, value }) if value.is_nan())
+    );
+    let e = Triangulation3::new(&[
+        [0.0; 3],
+        [1.0, 0.0, 0.0],
+        [0.0, f64::INFINITY, 0.0],
+        [0.0, 0.0, 1.0],
+    ]);
+    assert!(matches!(
+        e,
+        Err(TriangulationError::NonFinite {
+            index: 2,
+            axis: 1,
+            ..
+        })
+    ));
+    assert!(matches!(
+        Triangulation2::new(&[[0.0, 0.0], [1.0, 1.0]]),
+        Err(TriangulationError::TooFewPoints { distinct: 2, .. })
+    ));
+    assert!(matches!(
+        Triangulation2::new(&[[0.0, 0.0], [0.0, 0.0], [0.0, 0.0], [0.0, 0.0]]),
+        Err(TriangulationError::TooFewPoints { distinct: 1, .. })
+    ));
+    assert!(matches!(
+        Triangulation2::new(&[]),
+        Err(TriangulationError::TooFewPoints { distinct: 0, .. })
+    ));
+    let line: Vec<[f64; 2]> = (0..10).map(|i| [i as f64, 2.0 * i as f64]).collect();
+    assert!(matches!(
+        Triangulation2::new(&line),
+        Err(TriangulationError::Degenerate {
+            what: "collinear",
+            ..
+        })
+    ));
+    let plane: Vec<[f64; 3]> = grid2(5).iter().map(|p| [p[0], p[1], p[0] + p[1]]).collect();
+    assert!(matches!(
+        Triangulation3::new(&plane),
+        Err(TriangulationError::Degenerate {
+            what: "coplanar",
+            ..
+        })
+    ));
+    let line3: Vec<[f64; 3]> = (0..10).map(|i| [i as f64, 1.0, 2.0 * i as f64]).collect();
+    assert!(matches!(
+        Triangulation3::new(&line3),
+        Err(TriangulationError::Degenerate {
+            what: "collinear",
+            ..
+        })
+    ));
+    assert!(matches!(
+        Triangulation2::new(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1e-300, 1.0]]),
+        Err(TriangulationError::CoordinateRange { index: 3, .. })
+    ));
+}
+
+#[test]
+fn error_messages_name_the_point() {
+    let e = Triangulation2::new(&[[0.0, 0.0], [1.0, f64::NAN], [0.0, 1.0]]).unwrap_err();
+    assert_eq!(e.to_string(), "point 1: coordinate 1 is not finite (NaN)");
+}
+
+#[test]
+fn incremental_insertion_and_queries() {
+    let pts = uniform3(300, 15);
+    let mut t = Triangulation3::new(&pts[..100]).unwrap();
+    for (k, p) in pts[100..].iter().enumerate() {
+        let ins = t.insert(*p).unwrap();
+        assert_eq!(ins, Insertion::Inserted(ins.vertex()));
+        assert_eq!(t.input_index(ins.vertex()), 100 + k);
+    }
+    t.validate().unwrap();
+    assert_eq!(
+        t.insert(pts[7]).unwrap(),
+        Insertion::Duplicate(t.vertex_of_input(7))
+    );
+    assert_eq!(t.duplicates(), &[(300, 7)]);
+    assert!(t.insert([f64::NAN, 0.0, 0.0]).is_err());
+    // Every edge and facet of every cell is found by the queries, and absent ones are not.
+    for c in t.cells().take(50) {
+        let v = t.cell(c);
+        assert!(t.has_edge(v[0], v[1]));
+        assert!(t.has_triangle(v[0], v[1], v[2]));
+        assert!(t.cells_around_vertex(v[3]).contains(&c));
+        assert!(t.cells_around(&[v[1], v[3]]).contains(&c));
+    }
+    let v0 = VertexId(0);
+    let star = t.cells_around_vertex(v0);
+    let linked: std::collections::HashSet<VertexId> = star
+        .iter()
+        .flat_map(|&c| t.cell(c).iter().copied())
+        .collect();
+    for w in 0..t.num_vertices() as u32 {
+        let w = VertexId(w);
+        assert_eq!(t.has_edge(v0, w), w != v0 && linked.contains(&w), "{w:?}");
+    }
+    // Locating an existing point finds its vertex.
+    assert_eq!(t.locate(pts[42]), Location::Vertex(t.vertex_of_input(42)));
+}
+
+#[test]
+fn hull_facets_match_a_convex_hull_check() {
+    // A hull facet has every point on its inner side (or on it).
+    let pts = uniform3(400, 16);
+    let t = Triangulation3::new(&pts).unwrap();
+    for c in t.all_cells().filter(|&c| t.is_ghost(c)) {
+        let f: Vec<[f64; 3]> = t
+            .cell(c)
+            .iter()
+            .filter(|v| !v.is_ghost())
+            .map(|&v| t.vertex(v))
+            .collect();
+        let signs: std::collections::HashSet<Sign> = pts
+            .iter()
+            .map(|&p| orient3d(f[0], f[1], f[2], p))
+            .filter(|&s| s != Sign::Zero)
+            .collect();
+        assert_eq!(signs.len(), 1, "hull facet with points on both sides");
+    }
+    let pts = uniform2(400, 17);
+    let t = Triangulation2::new(&pts).unwrap();
+    let hull = t.all_cells().filter(|&c| t.is_ghost(c)).count();
+    for c in t.all_cells().filter(|&c| t.is_ghost(c)) {
+        let f: Vec<[f64; 2]> = t
+            .cell(c)
+            .iter()
+            .filter(|v| !v.is_ghost())
+            .map(|&v| t.vertex(v))
+            .collect();
+        let signs: std::collections::HashSet<Sign> = pts
+            .iter()
+            .map(|&p| orient2d(f[0], f[1], p))
+            .filter(|&s| s != Sign::Zero)
+            .collect();
+        assert_eq!(signs.len(), 1);
+    }
+    assert_eq!(t.num_cells(), 2 * 400 - 2 - hull);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// Random small sets with coordinates on a coarse lattice: many collinear, co-circular
+    /// and duplicate points. Either a clear error, or a valid Delaunay triangulation.
+    #[test]
+    fn lattice_sets_2d(coords in prop::collection::vec((0i32..6, 0i32..6), 0..40)) {
+        let pts: Vec<[f64; 2]> = coords.iter().map(|&(x, y)| [x as f64, y as f64]).collect();
+        match Triangulation2::new(&pts) {
+            Ok(t) => {
+                t.validate().unwrap();
+                t.validate_globally().unwrap();
+                check_vertices(&t, &pts);
+            }
+            Err(TriangulationError::TooFewPoints { .. } | TriangulationError::Degenerate { .. }) => {}
+            Err(e) => panic!("{e}"),
+        }
+    }
+
+    #[test]
+    fn lattice_sets_3d(coords in prop::collection::vec((0i32..4, 0i32..4, 0i32..4), 0..50)) {
+        let pts: Vec<[f64; 3]> = coords.iter().map(|&(x, y, z)| [x as f64, y as f64, z as f64]).collect();
+        match Triangulation3::new(&pts) {
+            Ok(t) => {
+                t.validate().unwrap();
+                t.validate_globally().unwrap();
+                check_vertices(&t, &pts);
+            }
+            Err(TriangulationError::TooFewPoints { .. } | TriangulationError::Degenerate { .. }) => {}
+            Err(e) => panic!("{e}"),
+        }
+    }
+
+    #[test]
+    fn random_float_sets_3d(coords in prop::collection::vec((-1e3f64..1e3, -1e3f64..1e3, -1e3f64..1e3), 4..200)) {
+        let pts: Vec<[f64; 3]> = coords.iter().map(|&(x, y, z)| [x, y, z]).collect();
+        let t = Triangulation3::new(&pts).unwrap();
+        t.validate().unwrap();
+        // The cells fill the convex hull: hull facets and cells agree on the boundary.
+        check_vertices(&t, &pts);
+    }
+}

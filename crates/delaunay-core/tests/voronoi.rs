@@ -1,0 +1,103 @@
+//! The Voronoi dual: Table 1's structure (forming points, neighbours, `*` on the hull), 2D
+//! regions that tile their box, 3D faces equidistant from the two points they separate.
+
+mod common;
+
+use common::*;
+use delmesh_delaunay_core::*;
+
+#[test]
+fn table_structure_is_the_dual_of_the_triangulation() {
+    let pts = uniform2(60, 21);
+    let t = Triangulation2::new(&pts).unwrap();
+    let vd = VoronoiDiagram::new(&t);
+    assert_eq!(vd.len(), t.num_cells());
+    let mut stars = 0;
+    for i in 0..vd.len() {
+        let f = vd.forming_points(i);
+        assert!(f.windows(2).all(|w| w[0] < w[1]));
+        // The circumcentre is equidistant from the forming points.
+        let c = vd.circumcenter(i);
+        let d: Vec<f64> = f
+            .iter()
+            .map(|&k| (pts[k as usize][0] - c[0]).hypot(pts[k as usize][1] - c[1]))
+            .collect();
+        assert!((d[0] - d[1]).abs() < 1e-9 * d[0] && (d[0] - d[2]).abs() < 1e-9 * d[0]);
+        for n in vd.neighbors(i) {
+            match n {
+                None => stars += 1,
+                Some(j) => {
+                    // Neighbours share two forming points, and the relation is symmetric.
+                    let g = vd.forming_points(*j as usize);
+                    assert_eq!(f.iter().filter(|x| g.contains(x)).count(), 2);
+                    assert!(vd.neighbors(*j as usize).contains(&Some(i as u32)));
+                }
+            }
+        }
+    }
+    assert_eq!(stars, t.num_hull_facets());
+    let table = vd.table(1);
+    assert_eq!(table.lines().count(), vd.len() + 1);
+}
+
+#[test]
+fn voronoi_regions_tile_the_box() {
+    let pts = uniform2(300, 22);
+    let t = Triangulation2::new(&pts).unwrap();
+    let (lo, hi) = ([-0.1, -0.1], [1.1, 1.1]);
+    let cells = t.voronoi_cells(lo, hi);
+    assert_eq!(cells.len(), pts.len());
+    let mut total = 0.0;
+    for cell in &cells {
+        let poly = &cell.polygon;
+        assert!(poly.len() >= 3, "point {} has an empty region", cell.point);
+        let a: f64 = (0..poly.len())
+            .map(|k| {
+                let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
+                p[0] * q[1] - p[1] * q[0]
+            })
+            .sum::<f64>()
+            / 2.0;
+        assert!(a > 0.0, "region of {} is not counter-clockwise", cell.point);
+        total += a;
+        // Every corner is at least as close to its point as to any other point.
+        let me = pts[cell.point];
+        for c in poly {
+            let dm = (c[0] - me[0]).hypot(c[1] - me[1]);
+            for p in pts.iter().step_by(7) {
+                assert!(dm <= (c[0] - p[0]).hypot(c[1] - p[1]) + 1e-9);
+            }
+        }
+    }
+    assert!(
+        (total - 1.44).abs() < 1e-9,
+        "regions cover {total}, box is 1.44"
+    );
+}
+
+#[test]
+fn bounded_3d_regions_have_equidistant_faces() {
+    let pts = uniform3(400, 23);
+    let t = Triangulation3::new(&pts).unwrap();
+    let faces = t.voronoi_faces();
+    assert!(!faces.is_empty());
+    let dist = |a: [f64; 3], b: [f64; 3]| {
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+    };
+    for f in &faces {
+        assert!(f.polygon.len() >= 3);
+        for &c in &f.polygon {
+            let (a, b) = (dist(c, pts[f.point]), dist(c, pts[f.neighbor]));
+            assert!((a - b).abs() <= 1e-8 * a.max(1.0));
+        }
+    }
+    // Each bounded region is closed: every face's neighbour owns the reverse face if bounded.
+    let owners: std::collections::HashSet<usize> = faces.iter().map(|f| f.point).collect();
+    let pairs: std::collections::HashSet<(usize, usize)> =
+        faces.iter().map(|f| (f.point, f.neighbor)).collect();
+    for f in &faces {
+        if owners.contains(&f.neighbor) {
+            assert!(pairs.contains(&(f.neighbor, f.point)));
+        }
+    }
+}
