@@ -1,0 +1,189 @@
+//! VTK XML unstructured-grid (`.vtu`) output through the `vtkio` crate.
+//!
+//! `.vtu` is what ParaView and VisIt open directly, so it is the format for looking at meshes,
+//! quality fields and Voronoi cells. [`write_vtu`] writes triangle / tetrahedron meshes with
+//! optional per-point and per-cell scalar fields; [`write_vtu_polygons`] writes polygons (2D
+//! Voronoi cells, or the faces of 3D Voronoi cells). Data is stored as base64 binary `Float64`
+//! (coordinates and fields are exact), little endian, uncompressed; 2D points get `z = 0`.
+//! The XML is built in memory by `vtkio` and written through [`write_atomic`].
+
+use std::path::Path;
+
+use vtkio::model::{
+    Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, ElementType, IOBuffer,
+    Piece, UnstructuredGridPiece, Version, VertexNumbers, Vtk,
+};
+
+use crate::atomic::write_atomic;
+use crate::model::check_points;
+use crate::{IoError, SimplexMesh};
+
+/// Writes a triangle (2D) or tetrahedron (3D) mesh as a VTK XML UnstructuredGrid (`.vtu`),
+/// with cell types `VTK_TRIANGLE` / `VTK_TETRA`. Atomic.
+///
+/// `point_data` and `cell_data` are named scalar fields with one value per point / per cell
+/// (any `f64`, NaN included); the first of each kind is marked as the active scalars. The
+/// neighbour array of `mesh`, if any, is not written.
+pub fn write_vtu(
+    path: &Path,
+    mesh: &SimplexMesh<'_>,
+    point_data: &[(&str, &[f64])],
+    cell_data: &[(&str, &[f64])],
+) -> Result<(), IoError> {
+    mesh.check(path)?;
+    let n_points = mesh.n_points();
+    let n_cells = mesh.n_cells();
+    let nv = mesh.dim + 1;
+    let point_attrs = fields(path, "point", point_data, n_points)?;
+    let cell_attrs = fields(path, "cell", cell_data, n_cells)?;
+
+    let cell_type = if mesh.dim == 2 {
+        CellType::Triangle
+    } else {
+        CellType::Tetra
+    };
+    let cells = Cells {
+        cell_verts: VertexNumbers::XML {
+            connectivity: mesh.cells.iter().map(|&v| u64::from(v)).collect(),
+            offsets: (1..=n_cells).map(|c| (c * nv) as u64).collect(),
+        },
+        types: vec![cell_type; n_cells],
+    };
+    let piece = UnstructuredGridPiece {
+        points: IOBuffer::F64(points3(mesh.dim, mesh.coords)),
+        cells,
+        data: Attributes {
+            point: point_attrs,
+            cell: cell_attrs,
+        },
+    };
+    export(path, piece)
+}
+
+/// Writes polygons as a VTK XML UnstructuredGrid (`.vtu`) of `VTK_POLYGON` cells: 2D Voronoi
+/// cells, or the faces of 3D Voronoi cells. Atomic.
+///
+/// `coords` holds `dim` (2 or 3) coordinates per point; each polygon lists at least 3 0-based
+/// point indices in order around it. `cell_data` holds named scalar fields with one value per
+/// polygon (for 3D Voronoi faces, e.g. the id of the cell each face belongs to).
+pub fn write_vtu_polygons(
+    path: &Path,
+    dim: usize,
+    coords: &[f64],
+    polygons: &[Vec<u32>],
+    cell_data: &[(&str, &[f64])],
+) -> Result<(), IoError> {
+    check_points(path, dim, coords)?;
+    let n_points = coords.len() / dim;
+    for (i, poly) in polygons.iter().enumerate() {
+        if poly.len() < 3 {
+            return Err(IoError::invalid(
+                path,
+                format!(
+                    "polygon {i} has {} vertices, at least 3 are needed",
+                    poly.len()
+                ),
+            ));
+        }
+        if let Some(&v) = poly.iter().find(|&&v| v as usize >= n_points) {
+            return Err(IoError::invalid(
+                path,
+                format!("polygon {i} refers to point {v} but there are only {n_points} points"),
+            ));
+        }
+    }
+    let cell_attrs = fields(path, "cell", cell_data, polygons.len())?;
+
+    let mut connectivity = Vec::with_capacity(polygons.iter().map(Vec::len).sum());
+    let mut offsets = Vec::with_capacity(polygons.len());
+    for poly in polygons {
+        connectivity.extend(poly.iter().map(|&v| u64::from(v)));
+        offsets.push(connectivity.len() as u64);
+    }
+    let piece = UnstructuredGridPiece {
+        points: IOBuffer::F64(points3(dim, coords)),
+        cells: Cells {
+            cell_verts: VertexNumbers::XML {
+                connectivity,
+                offsets,
+            },
+            types: vec![CellType::Polygon; polygons.len()],
+        },
+        data: Attributes {
+            point: Vec::new(),
+            cell: cell_attrs,
+        },
+    };
+    export(path, piece)
+}
+
+/// Pads 2D coordinates with `z = 0`; copies 3D ones.
+fn points3(dim: usize, coords: &[f64]) -> Vec<f64> {
+    if dim == 3 {
+        return coords.to_vec();
+    }
+    let mut out = Vec::with_capacity(coords.len() / 2 * 3);
+    for p in coords.chunks_exact(2) {
+        out.extend_from_slice(&[p[0], p[1], 0.0]);
+    }
+    out
+}
+
+/// Turns named scalar fields into VTK attributes, checking there is one value per `kind`.
+fn fields(
+    path: &Path,
+    kind: &str,
+    data: &[(&str, &[f64])],
+    expected: usize,
+) -> Result<Vec<Attribute>, IoError> {
+    let mut out = Vec::with_capacity(data.len());
+    for (i, &(name, values)) in data.iter().enumerate() {
+        if values.len() != expected {
+            return Err(IoError::invalid(
+                path,
+                format!(
+                    "{kind} field '{name}' has {} values, expected one per {kind} ({expected})",
+                    values.len()
+                ),
+            ));
+        }
+        if data[..i].iter().any(|&(other, _)| other == name) {
+            return Err(IoError::invalid(
+                path,
+                format!("{kind} field name '{name}' is used twice"),
+            ));
+        }
+        out.push(Attribute::DataArray(DataArray {
+            name: name.to_string(),
+            elem: ElementType::Scalars {
+                num_comp: 1,
+                lookup_table: None,
+            },
+            data: IOBuffer::F64(values.to_vec()),
+        }));
+    }
+    Ok(out)
+}
+
+/// Serialises one inline piece as a `.vtu` file at `path`, atomically.
+fn export(path: &Path, piece: UnstructuredGridPiece) -> Result<(), IoError> {
+    let vtk = Vtk {
+        version: Version::new((1, 0)),
+        title: String::new(),
+        byte_order: ByteOrder::LittleEndian,
+        file_path: None,
+        data: DataSet::UnstructuredGrid {
+            meta: None,
+            pieces: vec![Piece::Inline(Box::new(piece))],
+        },
+    };
+    write_atomic(path, |w| {
+        vtk.write_xml(w).map_err(|e| match e {
+            vtkio::Error::IO(source) => IoError::io(path, source),
+            other => IoError::Vtk {
+                file: path.to_path_buf(),
+                message: other.to_string(),
+            },
+        })
+    })
+}
