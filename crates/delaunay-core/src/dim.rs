@@ -29,11 +29,8 @@ pub trait Dim: Copy + Clone + Debug + Send + Sync + 'static {
     /// Whether the points `p` (at most `N` of them) are affinely independent.
     fn independent(p: &[Self::Point]) -> bool;
 
-    /// The Hilbert-curve key of a point quantised to `[0, 2^bits)` per axis.
+    /// The Hilbert-curve key of a point quantised to 16 bits per axis.
     fn hilbert_key(q: &[u32]) -> u64;
-
-    /// Bits per axis of [`Dim::hilbert_key`].
-    const HILBERT_BITS: u32;
 
     /// Circumcentre of the cell `p[0..C]` (a floating-point construction).
     fn circumcenter(p: &[Self::Point]) -> Self::Point;
@@ -51,7 +48,6 @@ impl Dim for D2 {
     const N: usize = 2;
     const C: usize = 3;
     type Point = [f64; 2];
-    const HILBERT_BITS: u32 = 31;
 
     #[inline]
     fn orient(p: &[[f64; 2]]) -> Sign {
@@ -73,7 +69,7 @@ impl Dim for D2 {
     }
 
     fn hilbert_key(q: &[u32]) -> u64 {
-        crate::sort::hilbert_key::<2>([q[0], q[1]], Self::HILBERT_BITS)
+        crate::sort::hilbert_key::<2>([q[0], q[1]], 16)
     }
 
     fn circumcenter(p: &[[f64; 2]]) -> [f64; 2] {
@@ -94,7 +90,6 @@ impl Dim for D3 {
     const N: usize = 3;
     const C: usize = 4;
     type Point = [f64; 3];
-    const HILBERT_BITS: u32 = 21;
 
     #[inline]
     fn orient(p: &[[f64; 3]]) -> Sign {
@@ -125,7 +120,7 @@ impl Dim for D3 {
     }
 
     fn hilbert_key(q: &[u32]) -> u64 {
-        crate::sort::hilbert_key::<3>([q[0], q[1], q[2]], Self::HILBERT_BITS)
+        crate::sort::hilbert_key::<3>([q[0], q[1], q[2]], 16)
     }
 
     fn circumcenter(p: &[[f64; 3]]) -> [f64; 3] {

@@ -10,10 +10,11 @@
 use crate::dim::Dim;
 use rayon::prelude::*;
 
-/// Rounds shrink by this factor from the last one backwards.
-const ROUND_RATIO: usize = 8;
-/// Below this many points there is a single (sorted) round.
-const FIRST_ROUND: usize = 2048;
+/// The first round has at least this many points (all of them for small inputs).
+const FIRST_ROUND: usize = 1024;
+/// Resolution of the Hilbert curve per axis: plenty for ordering, and the key (at most 48
+/// bits) leaves room for the round number above it.
+const HILBERT_BITS: u32 = 16;
 
 /// The Hilbert index of a point with `bits`-bit integer coordinates `x` (Skilling 2004).
 pub(crate) fn hilbert_key<const N: usize>(mut x: [u32; N], bits: u32) -> u64 {
@@ -48,14 +49,33 @@ pub(crate) fn hilbert_key<const N: usize>(mut x: [u32; N], bits: u32) -> u64 {
     for xi in &mut x {
         *xi ^= t;
     }
-    // Interleave the transposed bits, most significant first.
+    // Interleave the transposed bits, most significant first: x[0] holds the top bit.
     let mut key = 0u64;
-    for b in (0..bits).rev() {
-        for xi in &x {
-            key = key << 1 | u64::from((xi >> b) & 1);
-        }
+    for (i, &xi) in x.iter().enumerate() {
+        key |= spread::<N>(xi) << (N - 1 - i);
     }
     key
+}
+
+/// Spreads the low 21 bits of `x` so that consecutive bits land `N` positions apart.
+#[inline]
+fn spread<const N: usize>(x: u32) -> u64 {
+    let mut x = u64::from(x);
+    if N == 2 {
+        x &= 0xFFFF_FFFF;
+        x = (x | x << 16) & 0x0000_FFFF_0000_FFFF;
+        x = (x | x << 8) & 0x00FF_00FF_00FF_00FF;
+        x = (x | x << 4) & 0x0F0F_0F0F_0F0F_0F0F;
+        x = (x | x << 2) & 0x3333_3333_3333_3333;
+        (x | x << 1) & 0x5555_5555_5555_5555
+    } else {
+        x &= 0x1F_FFFF;
+        x = (x | x << 32) & 0x001F_0000_0000_FFFF;
+        x = (x | x << 16) & 0x001F_0000_FF00_00FF;
+        x = (x | x << 8) & 0x100F_00F0_0F00_F00F;
+        x = (x | x << 4) & 0x10C3_0C30_C30C_30C3;
+        (x | x << 2) & 0x1249_2492_4924_9249
+    }
 }
 
 /// A small, fast, seeded generator (SplitMix64) so the order is reproducible.
@@ -79,6 +99,11 @@ impl SplitMix {
 }
 
 /// The BRIO insertion order of `points` (indices into it). Deterministic for a given input.
+///
+/// Each point draws its round from a hash of its index: it lands in the last round with
+/// probability 7/8, the one before with 7/64, and so on, and the first round holds the rest
+/// (about `FIRST_ROUND` points). One sort by `(round, Hilbert key)` then gives the order, with
+/// the points read sequentially.
 pub(crate) fn brio_order<D: Dim>(points: &[D::Point]) -> Vec<u32> {
     let n = points.len();
     let mut lo = [f64::INFINITY; 3];
@@ -91,44 +116,42 @@ pub(crate) fn brio_order<D: Dim>(points: &[D::Point]) -> Vec<u32> {
     }
     // One scale for all axes keeps the curve's cells cubes, so thin slabs stay well ordered.
     let extent = (0..D::N).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max);
-    let cells = f64::from((1u32 << D::HILBERT_BITS) - 1);
+    let cells = f64::from((1u32 << HILBERT_BITS) - 1);
     let scale = if extent > 0.0 { cells / extent } else { 0.0 };
-    let key = |i: u32| -> u64 {
-        let p = points[i as usize].as_ref();
-        let mut q = [0u32; 3];
-        for k in 0..D::N {
-            q[k] = ((p[k] - lo[k]) * scale) as u32;
-        }
-        D::hilbert_key(&q[..D::N])
-    };
-
-    let mut order: Vec<u32> = (0..n as u32).collect();
-    let mut rng = SplitMix(0x5EED_DE1A_u64 ^ n as u64);
-    for i in (1..n).rev() {
-        order.swap(i, rng.below(i + 1));
+    let mut rounds = 0u32;
+    while n >> (3 * (rounds + 1)) >= FIRST_ROUND {
+        rounds += 1;
     }
-    let mut keyed: Vec<(u64, u32)> = order.into_par_iter().map(|i| (key(i), i)).collect();
-    let mut end = n;
-    while end > 0 {
-        let start = if end <= FIRST_ROUND {
-            0
-        } else {
-            end / ROUND_RATIO
-        };
-        let start = if start < FIRST_ROUND / ROUND_RATIO {
-            0
-        } else {
-            start
-        };
-        keyed[start..end].par_sort_unstable();
-        end = start;
-    }
+    let mut keyed: Vec<(u64, u32)> = points
+        .par_iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let p = p.as_ref();
+            let mut q = [0u32; 3];
+            for k in 0..D::N {
+                q[k] = ((p[k] - lo[k]) * scale) as u32;
+            }
+            let hilbert = D::hilbert_key(&q[..D::N]);
+            // Level ≥ k with probability 8^-k; the rarest levels are inserted first.
+            let level =
+                (SplitMix(i as u64 ^ 0x5EED_DE1A).next_u64().leading_zeros() / 3).min(rounds);
+            (u64::from(rounds - level) << 58 | hilbert, i as u32)
+        })
+        .collect();
+    keyed.par_sort_unstable();
     keyed.into_iter().map(|(_, i)| i).collect()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn spread_interleaves() {
+        assert_eq!(spread::<2>(0b1011), 0b1_00_01_01);
+        assert_eq!(spread::<3>(0b1011), 0b1_000_001_001);
+        assert_eq!(spread::<3>(0xFFFF).count_ones(), 16);
+    }
 
     #[test]
     fn hilbert_2d_visits_a_4x4_grid_by_unit_steps() {

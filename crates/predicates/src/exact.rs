@@ -42,6 +42,9 @@ pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
     if m > TINY && det.abs() > 7.0e-16 * (m * m) {
         return Sign::of(det);
     }
+    if let Some(k) = crate::integer::lattice([a[0], a[1], b[0], b[1], c[0], c[1]]) {
+        return Sign::of(f64::from(crate::integer::orient2d(k)));
+    }
     Sign::of(robust::orient2d(c2(a), c2(b), c2(c)))
 }
 
@@ -61,6 +64,11 @@ pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
     // Shewchuk: o3derrboundA = (7 + 56ε)ε, permanent ≤ 6M³.
     if m > TINY && det.abs() > 4.8e-15 * (m * m * m) {
         return Sign::of(-det);
+    }
+    if let Some(k) = crate::integer::lattice([
+        a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2],
+    ]) {
+        return Sign::of(-f64::from(crate::integer::orient3d(k)));
     }
     // robust::orient3d is positive when d is *below* the plane of a counter-clockwise a, b, c,
     // i.e. when the volume above is negative.
@@ -89,6 +97,9 @@ pub fn incircle(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> Sign {
     // Shewchuk: iccerrboundA = (10 + 96ε)ε, permanent ≤ 12M⁴.
     if m > TINY && det.abs() > 1.4e-14 * ((m * m) * (m * m)) {
         return Sign::of(det);
+    }
+    if let Some(k) = crate::integer::lattice([a[0], a[1], b[0], b[1], c[0], c[1], d[0], d[1]]) {
+        return Sign::of(f64::from(crate::integer::incircle(k)));
     }
     Sign::of(robust::incircle(c2(a), c2(b), c2(c), c2(d)))
 }
@@ -125,6 +136,11 @@ pub fn insphere(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3], e: [f64; 3])
     let m2 = m * m;
     if m > TINY && det.abs() > 1.3e-13 * (m2 * m2 * m) {
         return Sign::of(-det);
+    }
+    if let Some(k) = crate::integer::lattice([
+        a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2], e[0], e[1], e[2],
+    ]) {
+        return Sign::of(-f64::from(crate::integer::insphere(k)));
     }
     // robust::insphere expects robust's positive orientation, which is our negative one.
     Sign::of(-robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e)))
@@ -219,6 +235,42 @@ mod tests {
             assert_eq!(
                 orient2d(a2, b2, e2),
                 Sign::of(robust::orient2d(c2(a2), c2(b2), c2(e2)))
+            );
+            assert_eq!(
+                orient3d(a, b, c, e),
+                Sign::of(-robust::orient3d(c3(a), c3(b), c3(c), c3(e)))
+            );
+            assert_eq!(
+                incircle(a2, b2, c2_, d2),
+                Sign::of(robust::incircle(c2(a2), c2(b2), c2(c2_), c2(d2)))
+            );
+            assert_eq!(
+                insphere(a, b, c, d, e),
+                Sign::of(-robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e)))
+            );
+        }
+    }
+
+    /// Small-integer (grid) inputs take the integer path: it must agree with robust.
+    #[test]
+    fn integer_path_agrees_with_exact_predicates() {
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = |m: u64| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s % m) as f64
+        };
+        for round in 0..100_000 {
+            let (m, scale) = [(3, 1.0), (5, 0.125), (1 << 22, 1.0), (9, 1024.0)][round % 4];
+            let p: Vec<[f64; 3]> = (0..5)
+                .map(|_| [rnd(m) * scale, rnd(m) * scale, -rnd(m) * scale])
+                .collect();
+            let [a, b, c, d, e] = [p[0], p[1], p[2], p[3], p[4]];
+            let (a2, b2, c2_, d2) = ([a[0], a[1]], [b[0], b[1]], [c[0], c[1]], [d[0], d[1]]);
+            assert_eq!(
+                orient2d(a2, b2, c2_),
+                Sign::of(robust::orient2d(c2(a2), c2(b2), c2(c2_)))
             );
             assert_eq!(
                 orient3d(a, b, c, e),

@@ -30,6 +30,7 @@
 #![forbid(unsafe_code)]
 
 mod exact;
+mod integer;
 mod sos;
 
 pub use exact::{incircle, insphere, orient2d, orient3d};
