@@ -6,6 +6,7 @@
 //! of a cell by another point keeps the orientation convention, which both the walk ("is the point
 //! beyond facet `i`?") and the cavity re-triangulation ("connect the new point to the facet") use.
 
+use crate::ids::VertexId;
 use delmesh_predicates::{self as pred, Sign};
 use std::fmt::Debug;
 
@@ -21,6 +22,23 @@ pub trait Dim: Copy + Clone + Debug + Send + Sync + 'static {
     /// Orientation of the cell `p[0..C]`: positive for a counter-clockwise triangle or a
     /// positive-volume tetrahedron.
     fn orient(p: &[Self::Point]) -> Sign;
+
+    /// Whether `p[C]` lies inside the circumsphere of the positively oriented cell `p[0..C]`
+    /// (exact; zero when co-spherical).
+    fn insphere(p: &[Self::Point]) -> Sign;
+
+    /// [`Dim::insphere`] of the finite cell `cell` (vertex ids into `points`) and `q`, reading
+    /// the points straight into registers (the hot path of cavity search).
+    fn insphere_cell(points: &[Self::Point], cell: &[VertexId; 4], q: Self::Point) -> Sign;
+
+    /// Orientation of the finite cell `cell` with its vertex `f` replaced by `q`: negative
+    /// when `q` lies strictly beyond the cell's facet `f` (the hot path of the walk).
+    fn orient_replacing(
+        points: &[Self::Point],
+        cell: &[VertexId; 4],
+        f: usize,
+        q: Self::Point,
+    ) -> Sign;
 
     /// Whether `p[C]` lies inside the circumsphere of the positively oriented cell `p[0..C]`,
     /// with the symbolic perturbation by `ids`: never zero.
@@ -52,6 +70,35 @@ impl Dim for D2 {
     #[inline]
     fn orient(p: &[[f64; 2]]) -> Sign {
         pred::orient2d(p[0], p[1], p[2])
+    }
+
+    #[inline]
+    fn insphere(p: &[[f64; 2]]) -> Sign {
+        pred::incircle(p[0], p[1], p[2], p[3])
+    }
+
+    #[inline(always)]
+    fn insphere_cell(points: &[[f64; 2]], cell: &[VertexId; 4], q: [f64; 2]) -> Sign {
+        let (a, b, c) = (
+            points[cell[0].index()],
+            points[cell[1].index()],
+            points[cell[2].index()],
+        );
+        pred::incircle(a, b, c, q)
+    }
+
+    #[inline(always)]
+    fn orient_replacing(points: &[[f64; 2]], cell: &[VertexId; 4], f: usize, q: [f64; 2]) -> Sign {
+        let (a, b, c) = (
+            points[cell[0].index()],
+            points[cell[1].index()],
+            points[cell[2].index()],
+        );
+        match f {
+            0 => pred::orient2d(q, b, c),
+            1 => pred::orient2d(a, q, c),
+            _ => pred::orient2d(a, b, q),
+        }
     }
 
     #[inline]
@@ -94,6 +141,30 @@ impl Dim for D3 {
     #[inline]
     fn orient(p: &[[f64; 3]]) -> Sign {
         pred::orient3d(p[0], p[1], p[2], p[3])
+    }
+
+    #[inline]
+    fn insphere(p: &[[f64; 3]]) -> Sign {
+        pred::insphere(p[0], p[1], p[2], p[3], p[4])
+    }
+
+    #[inline(always)]
+    fn insphere_cell(points: &[[f64; 3]], cell: &[VertexId; 4], q: [f64; 3]) -> Sign {
+        let (a, b) = (points[cell[0].index()], points[cell[1].index()]);
+        let (c, d) = (points[cell[2].index()], points[cell[3].index()]);
+        pred::insphere(a, b, c, d, q)
+    }
+
+    #[inline(always)]
+    fn orient_replacing(points: &[[f64; 3]], cell: &[VertexId; 4], f: usize, q: [f64; 3]) -> Sign {
+        let (a, b) = (points[cell[0].index()], points[cell[1].index()]);
+        let (c, d) = (points[cell[2].index()], points[cell[3].index()]);
+        match f {
+            0 => pred::orient3d(q, b, c, d),
+            1 => pred::orient3d(a, q, c, d),
+            2 => pred::orient3d(a, b, q, d),
+            _ => pred::orient3d(a, b, c, q),
+        }
     }
 
     #[inline]

@@ -454,24 +454,16 @@ impl<D: Dim> Triangulation<D> {
         if let Some(g) = self.ghost_position(c) {
             c = self.simplices[c.index()].n[g].cell();
         }
-        let mut pts = [D::Point::default(); 4];
         let mut came_from = usize::MAX;
         'walk: loop {
             let cell = self.simplices[c.index()];
-            for k in 0..D::C {
-                pts[k] = self.points[cell.v[k].index()];
-            }
             let offset = self.rng.below(D::C);
             for step in 0..D::C {
                 let f = (offset + step) % D::C;
                 if f == came_from {
                     continue;
                 }
-                let saved = pts[f];
-                pts[f] = p;
-                let s = D::orient(&pts[..D::C]);
-                pts[f] = saved;
-                if s == Sign::Negative {
+                if D::orient_replacing(&self.points, &cell.v, f, p) == Sign::Negative {
                     let next = cell.n[f];
                     c = next.cell();
                     came_from = next.facet();
@@ -484,7 +476,7 @@ impl<D: Dim> Triangulation<D> {
             }
             // The point is in the closed cell: at a vertex, or inside (then in conflict).
             for k in 0..D::C {
-                if pts[k] == p {
+                if self.points[cell.v[k].index()] == p {
                     return Location::Vertex(cell.v[k]);
                 }
             }
@@ -500,31 +492,28 @@ impl<D: Dim> Triangulation<D> {
     #[inline]
     fn in_conflict(&self, c: CellId, p: D::Point, v: VertexId) -> bool {
         let cell = &self.simplices[c.index()];
-        let mut pts = [D::Point::default(); 5];
-        let mut ids = [0u32; 5];
-        let mut ghost = usize::MAX;
-        for k in 0..D::C {
-            let u = cell.v[k];
-            if u.is_ghost() {
-                ghost = k;
-                pts[k] = p;
-            } else {
-                pts[k] = self.points[u.index()];
-                ids[k] = u.0;
-            }
-        }
-        if ghost == usize::MAX {
-            pts[D::C] = p;
-            ids[D::C] = v.0;
-            return D::insphere_sos(&pts[..=D::C], &ids[..=D::C]) == Sign::Positive;
-        }
-        match D::orient(&pts[..D::C]) {
+        let Some(ghost) = cell.v[..D::C].iter().position(|u| u.is_ghost()) else {
+            return match D::insphere_cell(&self.points, &cell.v, p) {
+                Sign::Zero => {
+                    let mut pts = [D::Point::default(); 5];
+                    let mut ids = [v.0; 5];
+                    for k in 0..D::C {
+                        pts[k] = self.points[cell.v[k].index()];
+                        ids[k] = cell.v[k].0;
+                    }
+                    pts[D::C] = p;
+                    D::insphere_sos(&pts[..=D::C], &ids[..=D::C]) == Sign::Positive
+                }
+                s => s == Sign::Positive,
+            };
+        };
+        // Replace the ghost by a finite vertex of the cell, then by p: "p beyond the facet".
+        let mut finite = cell.v;
+        finite[ghost] = cell.v[(ghost + 1) % D::C];
+        match D::orient_replacing(&self.points, &finite, ghost, p) {
             Sign::Positive => true,
             Sign::Negative => false,
-            Sign::Zero => {
-                let finite = cell.n[ghost].cell();
-                self.in_conflict(finite, p, v)
-            }
+            Sign::Zero => self.in_conflict(cell.n[ghost].cell(), p, v),
         }
     }
 
