@@ -19,18 +19,16 @@ const HILBERT_BITS: u32 = 16;
 /// The Hilbert index of a point with `bits`-bit integer coordinates `x` (Skilling 2004).
 pub(crate) fn hilbert_key<const N: usize>(mut x: [u32; N], bits: u32) -> u64 {
     let m = 1u32 << (bits - 1);
-    // Inverse undo excess work.
+    // Inverse undo excess work (branch-free: the bits are unpredictable).
     let mut q = m;
     while q > 1 {
         let p = q - 1;
         for i in 0..N {
-            if x[i] & q != 0 {
-                x[0] ^= p;
-            } else {
-                let t = (x[0] ^ x[i]) & p;
-                x[0] ^= t;
-                x[i] ^= t;
-            }
+            let set = 0u32.wrapping_sub(u32::from(x[i] & q != 0));
+            // Bit set: invert the low bits of x[0]; clear: exchange them with x[i]'s.
+            let t = (x[0] ^ x[i]) & p & !set;
+            x[0] ^= (p & set) | t;
+            x[i] ^= t;
         }
         q >>= 1;
     }
@@ -41,9 +39,7 @@ pub(crate) fn hilbert_key<const N: usize>(mut x: [u32; N], bits: u32) -> u64 {
     let mut t = 0;
     let mut q = m;
     while q > 1 {
-        if x[N - 1] & q != 0 {
-            t ^= q - 1;
-        }
+        t ^= (q - 1) & 0u32.wrapping_sub(u32::from(x[N - 1] & q != 0));
         q >>= 1;
     }
     for xi in &mut x {
