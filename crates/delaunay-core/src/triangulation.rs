@@ -188,6 +188,9 @@ pub struct Triangulation<D: Dim> {
     pub(crate) incident: Vec<CellId>,
     /// Scratch: each vertex's local number in the current cavity (see `local_id`).
     local: Vec<u32>,
+    /// During [`Triangulation::new`], `incident` is not maintained (nothing reads it) and is
+    /// rebuilt at the end in one sequential pass.
+    bulk: bool,
     /// Per-cell visit stamps for the cavity search.
     pub(crate) mark: Vec<u32>,
     pub(crate) stamp: u32,
@@ -294,6 +297,8 @@ impl<D: Dim> Triangulation<D> {
             }
         }
         tri.duplicates.sort_unstable();
+        tri.bulk = false;
+        tri.rebuild_incident();
         progress(total, total);
         Ok(tri)
     }
@@ -315,6 +320,7 @@ impl<D: Dim> Triangulation<D> {
             free: Vec::new(),
             incident: Vec::with_capacity(n),
             local: Vec::with_capacity(n),
+            bulk: true,
             mark: Vec::with_capacity(n_cells),
             stamp: 0,
             last: CellId(0),
@@ -378,6 +384,19 @@ impl<D: Dim> Triangulation<D> {
         }
         self.incident[..D::C].fill(c0);
         self.last = c0;
+    }
+
+    fn rebuild_incident(&mut self) {
+        for (c, simplex) in self.simplices.iter().enumerate() {
+            if simplex.v[0] == VertexId::DEAD {
+                continue;
+            }
+            for &u in &simplex.v[..D::C] {
+                if !u.is_ghost() {
+                    self.incident[u.index()] = CellId(c as u32);
+                }
+            }
+        }
     }
 
     /// Inserts one point (in the caller's coordinates) and returns its vertex.
@@ -604,9 +623,11 @@ impl<D: Dim> Triangulation<D> {
             cavity.new_cells.push(c);
             let apex = b.apex as usize;
             self.link(FacetRef::new(c, apex), b.outside);
-            for &u in &b.vertices[..D::C] {
-                if !u.is_ghost() {
-                    self.incident[u.index()] = c;
+            if !self.bulk {
+                for &u in &b.vertices[..D::C] {
+                    if !u.is_ghost() {
+                        self.incident[u.index()] = c;
+                    }
                 }
             }
             // Register this cell's side facets under their directed ridges.
@@ -681,9 +702,11 @@ impl<D: Dim> Triangulation<D> {
             let c = self.alloc_cell(&b.vertices[..D::C]);
             let apex = b.apex as usize;
             self.link(FacetRef::new(c, apex), b.outside);
-            for &u in &b.vertices[..D::C] {
-                if !u.is_ghost() {
-                    self.incident[u.index()] = c;
+            if !self.bulk {
+                for &u in &b.vertices[..D::C] {
+                    if !u.is_ghost() {
+                        self.incident[u.index()] = c;
+                    }
                 }
             }
             for j in 0..D::C {
