@@ -1,0 +1,474 @@
+//! Text formats shared by the validation side: TetGen/Triangle `.node` and `.ele`
+//! files, and xtask's own `.cells` format, plus cell-set comparison.
+//!
+//! `.cells` is the common currency of every reference and comparison step: one line
+//! per finite cell (triangle in 2D, tetrahedron in 3D), its vertices as 0-based
+//! input indices separated by single spaces, each line sorted ascending, lines sorted
+//! lexicographically, no header. Two triangulations of the same input are the same
+//! exactly when their `.cells` files are byte-identical. The CGAL driver
+//! (`xtask/cgal/delaunay.cpp`) writes it directly; TetGen's and delmesh's `.ele`
+//! output is converted into it here.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::fs;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use anyhow::{bail, ensure, Context, Result};
+
+/// Padding value for the unused fourth slot of a triangle.
+const PAD: u32 = u32::MAX;
+
+/// Iterates the non-empty, comment-stripped lines of a TetGen/Triangle text file as
+/// (1-based line number, whitespace-split fields). `#` starts a comment anywhere.
+fn data_lines(text: &str) -> impl Iterator<Item = (usize, Vec<&str>)> {
+    text.lines().enumerate().filter_map(|(i, line)| {
+        let line = line.split('#').next().unwrap_or("");
+        let fields: Vec<&str> = line
+            .split(|c: char| c.is_ascii_whitespace() || c == ',')
+            .filter(|f| !f.is_empty())
+            .collect();
+        (!fields.is_empty()).then_some((i + 1, fields))
+    })
+}
+
+fn parse_field<T: std::str::FromStr>(field: &str, line: usize, path: &Path) -> Result<T> {
+    field
+        .parse()
+        .ok()
+        .with_context(|| format!("{}:{line}: bad number `{field}`", path.display()))
+}
+
+/// A parsed `.node` file.
+#[derive(Debug, Clone)]
+pub struct NodeFile {
+    /// 2 or 3.
+    pub dim: usize,
+    /// Index of the first point as written in the file (0 or 1 in practice).
+    pub first_index: i64,
+    /// Coordinates, `dim` per point, in file order (so point `i` is 0-based index `i`).
+    pub coords: Vec<f64>,
+    /// Attributes per point (`nattr` in the header).
+    pub nattr: usize,
+    /// Attributes, `nattr` per point.
+    pub attrs: Vec<f64>,
+}
+
+impl NodeFile {
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        self.coords.len() / self.dim
+    }
+
+    /// Coordinates of 0-based point `i`.
+    pub fn point(&self, i: usize) -> &[f64] {
+        &self.coords[i * self.dim..(i + 1) * self.dim]
+    }
+}
+
+/// Reads a TetGen/Triangle `.node` file. Format: first non-comment line
+/// `<n> <dim> <nattr> <nmarkers>`, then `n` lines `<idx> x y [z] [attr...] [marker]`
+/// with consecutive indices starting at 0 or 1.
+pub fn read_node(path: &Path) -> Result<NodeFile> {
+    let text = fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let mut lines = data_lines(&text);
+    let (hl, header) = lines
+        .next()
+        .with_context(|| format!("{}: empty", path.display()))?;
+    let n: usize = parse_field(header[0], hl, path)?;
+    let dim: usize = match header.get(1) {
+        Some(f) => parse_field(f, hl, path)?,
+        None => 3,
+    };
+    let nattr: usize = match header.get(2) {
+        Some(f) => parse_field(f, hl, path)?,
+        None => 0,
+    };
+    ensure!(
+        dim == 2 || dim == 3,
+        "{}: dimension {dim} is not 2 or 3",
+        path.display()
+    );
+    let mut node = NodeFile {
+        dim,
+        first_index: 0,
+        coords: Vec::with_capacity(n * dim),
+        nattr,
+        attrs: Vec::with_capacity(n * nattr),
+    };
+    for (k, (ln, fields)) in lines.take(n).enumerate() {
+        ensure!(
+            fields.len() > dim + nattr,
+            "{}:{ln}: too few fields",
+            path.display()
+        );
+        let idx: i64 = parse_field(fields[0], ln, path)?;
+        if k == 0 {
+            node.first_index = idx;
+        }
+        ensure!(
+            idx == node.first_index + k as i64,
+            "{}:{ln}: index {idx} is not consecutive",
+            path.display()
+        );
+        for f in &fields[1..=dim] {
+            node.coords.push(parse_field(f, ln, path)?);
+        }
+        for f in &fields[dim + 1..dim + 1 + nattr] {
+            node.attrs.push(parse_field(f, ln, path)?);
+        }
+    }
+    ensure!(
+        node.len() == n,
+        "{}: header says {n} points, found {}",
+        path.display(),
+        node.len()
+    );
+    Ok(node)
+}
+
+/// Writes a 0-based `.node` file with no markers. Coordinates use Rust's `{}`
+/// formatting, which is the shortest string that parses back to the same `f64`, so
+/// every reader (strtod, Rust's `parse`) sees exactly the generated points.
+/// `attrs` holds `nattr` values per point.
+pub fn write_node(
+    path: &Path,
+    dim: usize,
+    coords: &[f64],
+    nattr: usize,
+    attrs: &[f64],
+) -> Result<()> {
+    let n = coords.len() / dim;
+    ensure!(attrs.len() == n * nattr, "attribute count mismatch");
+    let file = fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
+    let mut w = BufWriter::with_capacity(1 << 20, file);
+    writeln!(w, "{n} {dim} {nattr} 0")?;
+    let mut line = String::new();
+    for i in 0..n {
+        line.clear();
+        write!(line, "{i}")?;
+        for c in &coords[i * dim..(i + 1) * dim] {
+            write!(line, " {c}")?;
+        }
+        for a in &attrs[i * nattr..(i + 1) * nattr] {
+            write!(line, " {a}")?;
+        }
+        line.push('\n');
+        w.write_all(line.as_bytes())?;
+    }
+    w.flush()?;
+    Ok(())
+}
+
+/// A canonical set of cells: every cell sorted ascending, the list sorted
+/// lexicographically. Triangles are stored with a padding fourth slot.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CellSet {
+    /// 3 (triangles) or 4 (tetrahedra).
+    pub arity: usize,
+    cells: Vec<[u32; 4]>,
+}
+
+impl CellSet {
+    /// Builds a canonical set from cells in any order and orientation. For arity 3
+    /// only the first three entries of each cell are used.
+    pub fn new(arity: usize, mut cells: Vec<[u32; 4]>) -> Self {
+        assert!(arity == 3 || arity == 4);
+        for c in &mut cells {
+            if arity == 3 {
+                c[3] = PAD;
+            }
+            c.sort_unstable();
+        }
+        cells.sort_unstable();
+        CellSet { arity, cells }
+    }
+
+    /// Number of cells.
+    pub fn len(&self) -> usize {
+        self.cells.len()
+    }
+
+    /// The cells, each with `arity` vertices.
+    pub fn iter(&self) -> impl Iterator<Item = &[u32]> + '_ {
+        self.cells.iter().map(move |c| &c[..self.arity])
+    }
+
+    /// Renames every vertex `v` to `map[v]` and re-canonicalizes.
+    pub fn remap(&self, map: &[u32]) -> Result<CellSet> {
+        let mut cells = self.cells.clone();
+        for c in &mut cells {
+            for v in &mut c[..self.arity] {
+                *v = *map
+                    .get(*v as usize)
+                    .with_context(|| format!("vertex {v} out of range"))?;
+            }
+        }
+        Ok(CellSet::new(self.arity, cells))
+    }
+
+    /// Writes the `.cells` format.
+    pub fn write(&self, path: &Path) -> Result<()> {
+        let file =
+            fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
+        let mut w = BufWriter::with_capacity(1 << 20, file);
+        let mut line = String::new();
+        for c in self.iter() {
+            line.clear();
+            for (k, v) in c.iter().enumerate() {
+                if k > 0 {
+                    line.push(' ');
+                }
+                write!(line, "{v}")?;
+            }
+            line.push('\n');
+            w.write_all(line.as_bytes())?;
+        }
+        w.flush()?;
+        Ok(())
+    }
+}
+
+/// Reads a `.cells` file (see the module docs); the arity is taken from the first
+/// line (an empty file gives an empty set of arity `default_arity`). The content is
+/// re-canonicalized, so a hand-edited file still compares correctly.
+pub fn read_cells(path: &Path, default_arity: usize) -> Result<CellSet> {
+    let text = fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let mut arity = 0;
+    let mut cells = Vec::new();
+    for (ln, line) in text.lines().enumerate() {
+        let mut c = [PAD; 4];
+        let mut k = 0;
+        for f in line.split_ascii_whitespace() {
+            ensure!(k < 4, "{}:{}: more than 4 vertices", path.display(), ln + 1);
+            c[k] = parse_field(f, ln + 1, path)?;
+            k += 1;
+        }
+        if k == 0 {
+            continue;
+        }
+        if arity == 0 {
+            arity = k;
+            ensure!(
+                arity == 3 || arity == 4,
+                "{}: cells of {k} vertices",
+                path.display()
+            );
+        }
+        ensure!(
+            k == arity,
+            "{}:{}: {k} vertices, expected {arity}",
+            path.display(),
+            ln + 1
+        );
+        cells.push(c);
+    }
+    Ok(CellSet::new(
+        if arity == 0 { default_arity } else { arity },
+        cells,
+    ))
+}
+
+/// Reads a TetGen/Triangle `.ele` file and returns its cells as 0-based indices.
+///
+/// Format (TetGen `.ele`, Triangle `.ele`): first non-comment line
+/// `<ncells> <nodes per cell> <nattr>`, then `<idx> v1 v2 ... [attrs]`. The vertex
+/// numbers follow the numbering of the `.node` file the mesh refers to, so
+/// `node_first_index` (0 or 1) is subtracted. Only the first `arity` vertices are
+/// used (corner nodes of second-order elements come first).
+pub fn read_ele(path: &Path, arity: usize, node_first_index: i64) -> Result<CellSet> {
+    let text = fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let mut lines = data_lines(&text);
+    let (hl, header) = lines
+        .next()
+        .with_context(|| format!("{}: empty", path.display()))?;
+    let n: usize = parse_field(header[0], hl, path)?;
+    let per: usize = match header.get(1) {
+        Some(f) => parse_field(f, hl, path)?,
+        None => arity,
+    };
+    ensure!(
+        per >= arity,
+        "{}: {per} nodes per cell, need {arity}",
+        path.display()
+    );
+    let mut cells = Vec::with_capacity(n);
+    for (ln, fields) in lines.take(n) {
+        ensure!(
+            fields.len() > arity,
+            "{}:{ln}: too few fields",
+            path.display()
+        );
+        let mut c = [PAD; 4];
+        for k in 0..arity {
+            let v: i64 = parse_field(fields[1 + k], ln, path)?;
+            let v = v - node_first_index;
+            ensure!(
+                v >= 0 && v < PAD as i64,
+                "{}:{ln}: vertex out of range",
+                path.display()
+            );
+            c[k] = v as u32;
+        }
+        cells.push(c);
+    }
+    ensure!(
+        cells.len() == n,
+        "{}: header says {n} cells, found {}",
+        path.display(),
+        cells.len()
+    );
+    Ok(CellSet::new(arity, cells))
+}
+
+/// For inputs with coincident points: maps every 0-based index to the smallest index
+/// with exactly the same coordinates. `None` when all points are distinct. Tools keep
+/// an arbitrary member of each coincident group, so cell sets are compared after
+/// [`CellSet::remap`] with this map.
+pub fn duplicate_canonical_map(node: &NodeFile) -> Option<Vec<u32>> {
+    let mut first: HashMap<Vec<u64>, u32> = HashMap::with_capacity(node.len());
+    let mut map = Vec::with_capacity(node.len());
+    let mut any = false;
+    for i in 0..node.len() {
+        // +0.0 and -0.0 are the same point: normalize before hashing bits.
+        let key: Vec<u64> = node.point(i).iter().map(|&x| (x + 0.0).to_bits()).collect();
+        let e = *first.entry(key).or_insert(i as u32);
+        any |= e != i as u32;
+        map.push(e);
+    }
+    any.then_some(map)
+}
+
+/// Result of comparing two cell sets.
+#[derive(Debug, Default)]
+pub struct CellDiff {
+    /// Cells present only in the first set.
+    pub only_a: usize,
+    /// Cells present only in the second set.
+    pub only_b: usize,
+    /// A few differing cells, prefixed `-` (first set) or `+` (second set).
+    pub examples: Vec<String>,
+}
+
+impl CellDiff {
+    /// True when the two sets are identical.
+    pub fn is_empty(&self) -> bool {
+        self.only_a == 0 && self.only_b == 0
+    }
+}
+
+/// Compares two canonical cell sets by a merge walk.
+pub fn compare(a: &CellSet, b: &CellSet) -> Result<CellDiff> {
+    if a.arity != b.arity {
+        bail!("comparing cells of {} and {} vertices", a.arity, b.arity);
+    }
+    let mut d = CellDiff::default();
+    let (mut i, mut j) = (0, 0);
+    let note = |d: &mut CellDiff, sign: char, c: &[u32]| {
+        if d.examples.len() < 8 {
+            d.examples.push(format!("{sign} {c:?}"));
+        }
+    };
+    while i < a.cells.len() || j < b.cells.len() {
+        match (a.cells.get(i), b.cells.get(j)) {
+            (Some(x), Some(y)) if x == y => {
+                i += 1;
+                j += 1;
+            }
+            (Some(x), Some(y)) if x < y => {
+                d.only_a += 1;
+                note(&mut d, '-', &x[..a.arity]);
+                i += 1;
+            }
+            (Some(x), None) => {
+                d.only_a += 1;
+                note(&mut d, '-', &x[..a.arity]);
+                i += 1;
+            }
+            (_, Some(y)) => {
+                d.only_b += 1;
+                note(&mut d, '+', &y[..b.arity]);
+                j += 1;
+            }
+            (None, None) => unreachable!(),
+        }
+    }
+    Ok(d)
+}
+
+/// Sum of the absolute measures (areas in 2D, volumes in 3D) of the cells, and the
+/// number of cells whose measure is exactly zero. A valid triangulation of a point
+/// set covers its convex hull, so the sum equals the hull's measure.
+pub fn measure_sum(node: &NodeFile, cells: &CellSet) -> (f64, usize) {
+    let mut sum = 0.0;
+    let mut flat = 0;
+    for c in cells.iter() {
+        let p0 = node.point(c[0] as usize);
+        let d = |v: u32| -> [f64; 3] {
+            let mut r = [0.0; 3];
+            for (k, (a, b)) in node.point(v as usize).iter().zip(p0).enumerate() {
+                r[k] = a - b;
+            }
+            r
+        };
+        let m = if cells.arity == 3 {
+            let (a, b) = (d(c[1]), d(c[2]));
+            (a[0] * b[1] - a[1] * b[0]) / 2.0
+        } else {
+            let (a, b, e) = (d(c[1]), d(c[2]), d(c[3]));
+            (a[0] * (b[1] * e[2] - b[2] * e[1]) - a[1] * (b[0] * e[2] - b[2] * e[0])
+                + a[2] * (b[0] * e[1] - b[1] * e[0]))
+                / 6.0
+        };
+        if m == 0.0 {
+            flat += 1;
+        }
+        sum += m.abs();
+    }
+    (sum, flat)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn compare_finds_differences() {
+        let a = CellSet::new(3, vec![[2, 1, 0, 0], [1, 2, 3, 0]]);
+        let b = CellSet::new(3, vec![[0, 1, 2, 9], [1, 3, 4, 0]]);
+        let d = compare(&a, &b).unwrap();
+        assert_eq!((d.only_a, d.only_b), (1, 1));
+        assert!(compare(&a, &a).unwrap().is_empty());
+    }
+
+    #[test]
+    fn node_and_cells_round_trip() {
+        let dir = std::env::temp_dir().join(format!("xtask-formats-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let coords = [0.1, 0.2, 1e-300, 3.0, -0.0, 0.30000000000000004];
+        write_node(&dir.join("a.node"), 2, &coords, 0, &[]).unwrap();
+        let node = read_node(&dir.join("a.node")).unwrap();
+        assert_eq!(node.coords, coords);
+        assert_eq!(node.first_index, 0);
+        let cells = CellSet::new(3, vec![[2, 0, 1, 0]]);
+        cells.write(&dir.join("a.cells")).unwrap();
+        assert_eq!(fs::read_to_string(dir.join("a.cells")).unwrap(), "0 1 2\n");
+        assert_eq!(read_cells(&dir.join("a.cells"), 4).unwrap(), cells);
+        fs::write(dir.join("b.ele"), "# c\n1 3 0\n 1  3 1 2 # tri\n").unwrap();
+        assert_eq!(read_ele(&dir.join("b.ele"), 3, 1).unwrap(), cells);
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn duplicates_map_to_smallest_index() {
+        let node = NodeFile {
+            dim: 2,
+            first_index: 0,
+            coords: vec![0.0, 1.0, 2.0, 2.0, -0.0, 1.0],
+            nattr: 0,
+            attrs: vec![],
+        };
+        assert_eq!(duplicate_canonical_map(&node), Some(vec![0, 1, 0]));
+    }
+}
