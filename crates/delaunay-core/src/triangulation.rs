@@ -94,6 +94,11 @@ pub(crate) struct Cavity {
     new_cells: Vec<CellId>,
 }
 
+/// Cavity search marks: not visited, in conflict, tested and not in conflict.
+const UNSEEN: u8 = 0;
+const INSIDE: u8 = 1;
+const OUTSIDE: u8 = 2;
+
 /// Largest dense ridge table (entries); bigger cavities use the hash table.
 const DENSE_RIDGES: usize = 1 << 16;
 
@@ -191,9 +196,9 @@ pub struct Triangulation<D: Dim> {
     /// During [`Triangulation::new`], `incident` is not maintained (nothing reads it) and is
     /// rebuilt at the end in one sequential pass.
     bulk: bool,
-    /// Per-cell visit stamps for the cavity search.
-    pub(crate) mark: Vec<u32>,
-    pub(crate) stamp: u32,
+    /// Per-cell state of the cavity search ([`UNSEEN`], [`INSIDE`], [`OUTSIDE`]), reset to
+    /// unseen after each insertion for the few cells it touched.
+    pub(crate) mark: Vec<u8>,
     /// A cell made by the last insertion: where the next walk starts.
     pub(crate) last: CellId,
     pub(crate) cavity: Cavity,
@@ -226,10 +231,12 @@ impl<D: Dim> Triangulation<D> {
             return Err(TriangulationError::TooManyPoints(points.len()));
         }
         let (scale, min_magnitude) = scale_for::<D>(points)?;
-        let order = brio_order::<D>(points);
+        let mut order = brio_order::<D>(points);
         let mut tri = Self::empty(scale, min_magnitude, points.len());
-        // Gathered once, in parallel, so insertion reads its points sequentially.
-        let ordered: Vec<D::Point> = order
+        // Gathered once, in parallel, in insertion order. Vertices are numbered in the same
+        // order, so each inserted point is moved down in place to its vertex slot (duplicates
+        // leave the gap that this closes) and no second copy of the points is needed.
+        let mut ordered: Vec<D::Point> = order
             .par_iter()
             .map(|&i| tri_scale::<D>(points[i as usize], scale))
             .collect();
@@ -268,21 +275,22 @@ impl<D: Dim> Triangulation<D> {
                 }
             });
         }
-        for &pos in &first {
-            tri.push_vertex(ordered[pos], order[pos]);
+        // Bring the first simplex to the front (positions only grow, so the swaps commute).
+        for (k, &pos) in first.iter().enumerate() {
+            ordered.swap(k, pos);
+            order.swap(k, pos);
+        }
+        tri.points = ordered;
+        for (k, &i) in order.iter().enumerate().take(D::C) {
+            tri.push_vertex(tri.points[k], i);
         }
         tri.make_first_cell();
 
         let total = points.len();
         let mut done = D::C;
         let mut next_report = 1 << 16;
-        let mut skip = first.iter().copied().peekable();
-        for (pos, &i) in order.iter().enumerate() {
-            if skip.peek() == Some(&pos) {
-                skip.next();
-                continue;
-            }
-            match tri.insert_scaled(ordered[pos], i) {
+        for (pos, &i) in order.iter().enumerate().skip(D::C) {
+            match tri.insert_scaled(tri.points[pos], i) {
                 Insertion::Inserted(_) => {}
                 Insertion::Duplicate(v) => {
                     tri.vertex_of_input[i as usize] = v;
@@ -297,6 +305,7 @@ impl<D: Dim> Triangulation<D> {
             }
         }
         tri.duplicates.sort_unstable();
+        tri.points.truncate(tri.input_index.len());
         tri.bulk = false;
         tri.rebuild_incident();
         progress(total, total);
@@ -322,7 +331,6 @@ impl<D: Dim> Triangulation<D> {
             local: Vec::with_capacity(n),
             bulk: true,
             mark: Vec::with_capacity(n_cells),
-            stamp: 0,
             last: CellId(0),
             cavity: Cavity::default(),
             rng: SplitMix(0x0DE1_A0A7),
@@ -331,8 +339,13 @@ impl<D: Dim> Triangulation<D> {
     }
 
     fn push_vertex(&mut self, p: D::Point, input: u32) -> VertexId {
-        let v = VertexId(self.points.len() as u32);
-        self.points.push(p);
+        let v = VertexId(self.input_index.len() as u32);
+        if self.bulk {
+            // `points` already holds the insertion order; `v` is at most the point's position.
+            self.points[v.index()] = p;
+        } else {
+            self.points.push(p);
+        }
         self.input_index.push(input);
         if (input as usize) < self.vertex_of_input.len() {
             self.vertex_of_input[input as usize] = v;
@@ -536,20 +549,11 @@ impl<D: Dim> Triangulation<D> {
         }
     }
 
-    fn next_stamps(&mut self) -> (u32, u32) {
-        if self.stamp >= u32::MAX - 2 {
-            self.mark.fill(0);
-            self.stamp = 0;
-        }
-        self.stamp += 2;
-        (self.stamp - 1, self.stamp)
-    }
-
     /// Steps 3–5: the cavity of cells in conflict with `v`, found by a search over neighbours
     /// from `start` (which must be in conflict), and its boundary facets.
     fn dig_cavity(&mut self, start: CellId, v: VertexId) {
         let p = self.points[v.index()];
-        let (inside, outside) = self.next_stamps();
+        let (inside, outside) = (INSIDE, OUTSIDE);
         let mut cavity = std::mem::take(&mut self.cavity);
         cavity.cells.clear();
         cavity.boundary.clear();
@@ -593,7 +597,11 @@ impl<D: Dim> Triangulation<D> {
         let mut cavity = std::mem::take(&mut self.cavity);
         for &c in &cavity.cells {
             self.simplices[c.index()].v[0] = VertexId::DEAD;
+            self.mark[c.index()] = UNSEEN;
             self.free.push(c);
+        }
+        for b in &cavity.boundary {
+            self.mark[b.outside.cell().index()] = UNSEEN;
         }
         // Number the cavity's boundary vertices 0..nv (a sparse set over `self.local`, so
         // nothing needs clearing), then pair the new cells' shared facets by directed ridges.
@@ -695,6 +703,7 @@ impl<D: Dim> Triangulation<D> {
     /// would be too large: the new cells are paired through a hash table instead.
     fn fill_cavity_hashed(&mut self) {
         let mut cavity = std::mem::take(&mut self.cavity);
+        // (Marks were reset by `fill_cavity`, which hands over to this.)
         cavity.ridges.reset(cavity.boundary.len() * (D::C - 1));
         let mut last = None;
         let mut last_finite = None;
@@ -777,7 +786,7 @@ impl<D: Dim> Triangulation<D> {
 
     /// Number of vertices (distinct inserted points).
     pub fn num_vertices(&self) -> usize {
-        self.points.len()
+        self.input_index.len()
     }
 
     /// Number of input points given so far, duplicates included.
@@ -882,7 +891,7 @@ impl<D: Dim> Triangulation<D> {
         let Some(&v) = simplex.first() else {
             return Vec::new();
         };
-        if v.is_ghost() || v.index() >= self.points.len() {
+        if v.is_ghost() || v.index() >= self.num_vertices() {
             return Vec::new();
         }
         // Star of v: cells containing v, connected through facets containing v.
