@@ -1,0 +1,152 @@
+//! The single error type of the `delmesh` library: [`Error`].
+//!
+//! A user running `delmesh` on a file needs to know which file is wrong and where, so every
+//! variant names its file: reader and writer errors come from `delmesh-io` with the file and
+//! line already in them; kernel errors (which know only point indices) get the input file's
+//! name added here, and their point indices renumbered to the file's own numbering (a `.node`
+//! file may count from 1).
+
+use std::path::{Path, PathBuf};
+
+use delmesh_delaunay_core::TriangulationError;
+use delmesh_io::IoError;
+
+/// Everything that can go wrong in the `delmesh` library.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// Reading or writing a file failed, or the file is malformed (file and line in the
+    /// message).
+    #[error(transparent)]
+    Io(#[from] IoError),
+    /// The points of `file` admit no triangulation (too few, all collinear or coplanar, a
+    /// coordinate out of range). Point indices in `source` are in the file's numbering.
+    #[error("{file}: {source}", file = .file.display())]
+    Triangulation {
+        /// The input file.
+        file: PathBuf,
+        /// What the kernel reported.
+        source: TriangulationError,
+    },
+    /// The output path's extension names no format this operation writes.
+    #[error(
+        "{file}: unsupported output format '{ext}' (supported: {supported})",
+        file = .file.display()
+    )]
+    UnsupportedFormat {
+        /// The output path.
+        file: PathBuf,
+        /// The extension found (with its dot), or `(none)`.
+        ext: String,
+        /// The supported extensions, e.g. `.vtu, .ele`.
+        supported: &'static str,
+    },
+    /// A point set of a dimension other than 2 or 3.
+    #[error("{file}: points of dimension {dim}; only 2 and 3 are supported", file = .file.display())]
+    Dimension {
+        /// The input file.
+        file: PathBuf,
+        /// The dimension found.
+        dim: usize,
+    },
+    /// An output file would replace the input file (e.g. `pts.node -o pts.ele`, which writes
+    /// `pts.node`).
+    #[error(
+        "{output}: writing this file would overwrite the input {input}; choose another output name",
+        output = .output.display(),
+        input = .input.display()
+    )]
+    OverwritesInput {
+        /// The input file.
+        input: PathBuf,
+        /// The output file that is the same file.
+        output: PathBuf,
+    },
+    /// `delmesh demo NAME` with a name that is not a demo.
+    #[error("unknown demo '{name}' (available: {available})")]
+    UnknownDemo {
+        /// The name asked for.
+        name: String,
+        /// The demo names, comma-separated.
+        available: String,
+    },
+}
+
+impl Error {
+    /// A kernel error about the points of `file`, its point indices shifted by `first_index` so
+    /// they match the index column of the file.
+    pub(crate) fn triangulation(file: &Path, source: TriangulationError, first_index: u32) -> Self {
+        let shift = first_index as usize;
+        let source = match source {
+            TriangulationError::NonFinite { index, axis, value } => TriangulationError::NonFinite {
+                index: index + shift,
+                axis,
+                value,
+            },
+            TriangulationError::CoordinateRange {
+                index,
+                value,
+                largest,
+            } => TriangulationError::CoordinateRange {
+                index: index + shift,
+                value,
+                largest,
+            },
+            other => other,
+        };
+        Error::Triangulation {
+            file: file.to_path_buf(),
+            source,
+        }
+    }
+
+    /// The file the error is about, if any.
+    pub fn file(&self) -> Option<&Path> {
+        match self {
+            Error::Io(e) => Some(e.file()),
+            Error::Triangulation { file, .. }
+            | Error::UnsupportedFormat { file, .. }
+            | Error::Dimension { file, .. } => Some(file),
+            Error::OverwritesInput { output, .. } => Some(output),
+            Error::UnknownDemo { .. } => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn messages_name_the_file_and_renumber_points() {
+        let e = Error::triangulation(
+            Path::new("points.node"),
+            TriangulationError::NonFinite {
+                index: 16,
+                axis: 0,
+                value: f64::NAN,
+            },
+            1,
+        );
+        assert_eq!(
+            e.to_string(),
+            "points.node: point 17: coordinate 0 is not finite (NaN)"
+        );
+        assert_eq!(e.file(), Some(Path::new("points.node")));
+
+        let e = Error::UnsupportedFormat {
+            file: PathBuf::from("mesh.stl"),
+            ext: ".stl".into(),
+            supported: ".vtu, .ele",
+        };
+        assert_eq!(
+            e.to_string(),
+            "mesh.stl: unsupported output format '.stl' (supported: .vtu, .ele)"
+        );
+    }
+
+    #[test]
+    fn is_send_sync_static() {
+        fn check<T: Send + Sync + 'static>() {}
+        check::<Error>();
+    }
+}

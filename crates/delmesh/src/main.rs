@@ -1,0 +1,204 @@
+//! The `delmesh` command-line tool: Delaunay triangulations of point files, and demos.
+//!
+//! A thin layer over the library ([`delmesh::delaunay`], [`delmesh::demos`]) so that what the
+//! tests exercise through the library is what users run. Results and tables go to stdout;
+//! the run summary (including the `build time: S s` line that `cargo xtask` parses) and progress
+//! go to stderr. Any error prints as one `error: <message>` line naming the file (and line, for
+//! malformed input) and exits with status 1; command-line usage errors are clap's (status 2).
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Result;
+use clap::{Args, Parser, Subcommand};
+use delmesh::delaunay::{
+    check_not_input, check_output_dir, triangulate_file, DelaunayRun, OutputFormat,
+};
+use delmesh::demos;
+
+/// How many duplicate pairs the summary lists.
+const DUPLICATES_SHOWN: usize = 5;
+
+/// Delaunay mesh generation for computational fluid dynamics.
+#[derive(Parser, Debug)]
+#[command(name = "delmesh", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Delaunay triangulation (2D) or tetrahedralisation (3D) of a point file.
+    Delaunay(DelaunayArgs),
+    /// Reproduce a figure of the paper; without NAME, list the demos.
+    Demo(DemoArgs),
+}
+
+#[derive(Args, Debug)]
+struct DelaunayArgs {
+    /// Input points: a TetGen/Triangle .node file, or plain text with `x y [z]` per line.
+    #[arg(value_name = "INPUT")]
+    input: PathBuf,
+    /// Output mesh: .vtu (VTK XML, for ParaView) or .ele (writes X.node, X.ele and X.neigh,
+    /// numbered like the input, as TetGen does).
+    #[arg(short, long, value_name = "OUT")]
+    output: PathBuf,
+    /// Also write the Voronoi cells (2D) or faces of the bounded Voronoi cells (3D) as polygons
+    /// to this .vtu file.
+    #[arg(long, value_name = "CELLS.vtu")]
+    voronoi: Option<PathBuf>,
+    /// No progress bar, and no summary except the `build time:` line.
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+#[derive(Args, Debug)]
+struct DemoArgs {
+    /// The demo to run (omit to list them).
+    #[arg(value_name = "NAME")]
+    name: Option<String>,
+    /// Directory for the demo's output files (created if missing).
+    #[arg(short, long, value_name = "DIR", default_value = "delmesh-demo-out")]
+    output: PathBuf,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {}", message(&e));
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Delaunay(args) => delaunay(&args),
+        Command::Demo(args) => demo(&args),
+    }
+}
+
+/// The error and its causes in one line, skipping causes whose text the message already
+/// contains (library errors include their cause's text).
+fn message(e: &anyhow::Error) -> String {
+    let mut msg = e.to_string();
+    for cause in e.chain().skip(1) {
+        let text = cause.to_string();
+        if !msg.contains(&text) {
+            msg.push_str(": ");
+            msg.push_str(&text);
+        }
+    }
+    msg
+}
+
+/// Writes `text` to stdout; a closed pipe (`delmesh demo | head`) is not an error.
+fn print_stdout(text: &str) -> Result<()> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(anyhow::Error::new(e).context("cannot write to standard output"))
+        }
+        _ => Ok(()),
+    }
+}
+
+fn delaunay(args: &DelaunayArgs) -> Result<()> {
+    // Check the output paths before spending time on the triangulation.
+    let mut outputs = OutputFormat::from_path(&args.output)?.files(&args.output);
+    check_output_dir(&args.output)?;
+    if let Some(voronoi) = &args.voronoi {
+        OutputFormat::check_voronoi_path(voronoi)?;
+        check_output_dir(voronoi)?;
+        if outputs.contains(voronoi) {
+            anyhow::bail!(
+                "{}: given both as the mesh output and as the --voronoi output",
+                voronoi.display()
+            );
+        }
+        outputs.push(voronoi.clone());
+    }
+    check_not_input(&args.input, &outputs)?;
+    let run = triangulate_file(&args.input, !args.quiet)?;
+    if args.quiet {
+        eprintln!("build time: {:.6} s", run.build_seconds);
+    } else {
+        eprint!("{}", summary(&run));
+    }
+    let mut written = run.write(&args.output)?;
+    if let Some(voronoi) = &args.voronoi {
+        run.write_voronoi(voronoi)?;
+        written.push(voronoi.clone());
+    }
+    if !args.quiet {
+        print_written(&written);
+    }
+    Ok(())
+}
+
+/// The run summary printed on stderr (one fact per line).
+fn summary(run: &DelaunayRun) -> String {
+    let (cells, facets) = if run.dim() == 2 {
+        ("triangles", "edges")
+    } else {
+        ("tetrahedra", "triangles")
+    };
+    let duplicates = run.duplicates();
+    let mut s = format!(
+        "input: {}\ndimension: {}\npoints read: {}\nduplicates merged: {}\n",
+        run.input.display(),
+        run.dim(),
+        run.num_input_points(),
+        duplicates.len()
+    );
+    for (dup, original) in duplicates.iter().take(DUPLICATES_SHOWN) {
+        s.push_str(&format!("  input {dup} repeats input {original}\n"));
+    }
+    if duplicates.len() > DUPLICATES_SHOWN {
+        s.push_str(&format!(
+            "  ... and {} more\n",
+            duplicates.len() - DUPLICATES_SHOWN
+        ));
+    }
+    s.push_str(&format!(
+        "vertices: {}\ncells: {} {cells}\nhull facets: {} {facets}\nbuild time: {:.6} s\n",
+        run.num_vertices(),
+        run.num_cells(),
+        run.num_hull_facets(),
+        run.build_seconds
+    ));
+    s
+}
+
+fn print_written(paths: &[PathBuf]) {
+    for p in paths {
+        eprintln!("wrote: {}", p.display());
+    }
+}
+
+fn demo(args: &DemoArgs) -> Result<()> {
+    let Some(name) = &args.name else {
+        let mut text = String::from("demos (run `delmesh demo NAME [-o DIR]`):\n");
+        let width = demos::DEMOS.iter().map(|d| d.name.len()).max().unwrap_or(0);
+        for d in demos::DEMOS {
+            text.push_str(&format!("  {:width$}  {}\n", d.name, d.summary));
+        }
+        return print_stdout(&text);
+    };
+    let out = demos::run(name, &args.output)?;
+    if let Some(table) = &out.table {
+        print_stdout(table)?;
+    }
+    eprintln!(
+        "{name}: {} points, {} cells, built in {:.6} s",
+        out.run.num_input_points(),
+        out.run.num_cells(),
+        out.run.build_seconds
+    );
+    print_written(&out.written);
+    Ok(())
+}

@@ -1,0 +1,477 @@
+//! End-to-end tests of the `delmesh` binary: run it as a user would and check its files, its
+//! messages and its exit status.
+//!
+//! They live in this crate rather than in the workspace's top-level `tests/` because Cargo sets
+//! `CARGO_BIN_EXE_delmesh` only for the tests of the package that owns the binary. The library
+//! behind the commands is tested in depth in the top-level `tests/pipeline.rs`; here the
+//! concern is the command line itself: arguments, the summary format (the `build time:` line is
+//! parsed by `cargo xtask`), `error: ...` messages with exit status 1, and the demos, including
+//! the paper's Table 1.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs `delmesh args...` in `dir`.
+fn delmesh(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_delmesh"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the delmesh binary runs")
+}
+
+fn stdout(out: &Output) -> String {
+    String::from_utf8(out.stdout.clone()).unwrap()
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8(out.stderr.clone()).unwrap()
+}
+
+/// Asserts success and returns stderr (the summary).
+fn ok(out: &Output) -> String {
+    let err = stderr(out);
+    assert!(
+        out.status.success(),
+        "status {:?}, stderr:\n{err}",
+        out.status
+    );
+    err
+}
+
+/// Asserts exit status 1 with stderr ending in one `error: ...` line and returns that line.
+fn fails(out: &Output) -> String {
+    let err = stderr(out);
+    assert_eq!(out.status.code(), Some(1), "stderr:\n{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(err.matches("error: ").count(), 1, "{err}");
+    let last = err.lines().last().unwrap_or("");
+    assert!(last.starts_with("error: "), "{err}");
+    last.to_string()
+}
+
+/// A small deterministic point cloud in general position (a 2D or 3D lattice, jittered).
+fn points(dim: usize, n: usize) -> Vec<Vec<f64>> {
+    let mut state = 12345u64;
+    let mut next = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    (0..n).map(|_| (0..dim).map(|_| next()).collect()).collect()
+}
+
+fn write_node(dir: &Path, name: &str, dim: usize, pts: &[Vec<f64>], first: usize) -> PathBuf {
+    let mut text = format!("{} {dim} 0 0\n", pts.len());
+    for (i, p) in pts.iter().enumerate() {
+        text.push_str(&(i + first).to_string());
+        for x in p {
+            text.push_str(&format!(" {x:?}"));
+        }
+        text.push('\n');
+    }
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// The value of a `key: value` summary line.
+fn field<'a>(summary: &'a str, key: &str) -> &'a str {
+    summary
+        .lines()
+        .find_map(|l| l.strip_prefix(&format!("{key}: ")))
+        .unwrap_or_else(|| panic!("no '{key}:' line in\n{summary}"))
+}
+
+/// The leading integer of a summary value (`"1990 triangles"` → 1990).
+fn count(summary: &str, key: &str) -> usize {
+    field(summary, key)
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+/// Checks the exact `build time: 0.123456 s` format.
+fn check_build_time(summary: &str) {
+    let value = field(summary, "build time");
+    let secs = value.strip_suffix(" s").expect("build time ends in ' s'");
+    let (whole, frac) = secs.split_once('.').expect("a decimal point");
+    assert!(whole.chars().all(|c| c.is_ascii_digit()) && !whole.is_empty());
+    assert_eq!(frac.len(), 6, "{value}");
+    assert!(frac.chars().all(|c| c.is_ascii_digit()));
+}
+
+/// The data lines of a TetGen-style file as integers (for `.ele` / `.neigh`).
+fn int_rows(path: &Path) -> Vec<Vec<i64>> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.trim().is_empty() && !l.trim_start().starts_with('#'))
+        .map(|l| l.split_whitespace().map(|t| t.parse().unwrap()).collect())
+        .collect()
+}
+
+#[test]
+fn help_lists_the_commands() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = delmesh(dir.path(), &["--help"]);
+    let text = stdout(&out);
+    assert!(out.status.success());
+    assert!(text.contains("delaunay") && text.contains("demo"), "{text}");
+    let out = delmesh(dir.path(), &["delaunay", "--help"]);
+    let text = stdout(&out);
+    for opt in [
+        "<INPUT>",
+        "--output <OUT>",
+        "--voronoi <CELLS.vtu>",
+        "--quiet",
+    ] {
+        assert!(text.contains(opt), "{opt} missing in\n{text}");
+    }
+}
+
+#[test]
+fn delaunay_2d_to_vtu_prints_the_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    write_node(dir.path(), "pts.node", 2, &points(2, 300), 1);
+    let out = delmesh(
+        dir.path(),
+        &[
+            "delaunay",
+            "pts.node",
+            "-o",
+            "mesh.vtu",
+            "--voronoi",
+            "cells.vtu",
+        ],
+    );
+    let summary = ok(&out);
+    assert_eq!(field(&summary, "input"), "pts.node");
+    assert_eq!(field(&summary, "dimension"), "2");
+    assert_eq!(count(&summary, "points read"), 300);
+    assert_eq!(count(&summary, "duplicates merged"), 0);
+    assert_eq!(count(&summary, "vertices"), 300);
+    assert!(field(&summary, "cells").ends_with(" triangles"));
+    assert!(field(&summary, "hull facets").ends_with(" edges"));
+    let (cells, hull) = (count(&summary, "cells"), count(&summary, "hull facets"));
+    assert_eq!(cells, 2 * 300 - hull - 2);
+    check_build_time(&summary);
+    assert!(summary.contains("wrote: mesh.vtu\n"), "{summary}");
+    assert!(summary.contains("wrote: cells.vtu\n"), "{summary}");
+
+    let xml = std::fs::read_to_string(dir.path().join("mesh.vtu")).unwrap();
+    assert!(xml.contains("NumberOfPoints=\"300\""));
+    assert!(xml.contains(&format!("NumberOfCells=\"{cells}\"")));
+    let voronoi = std::fs::read_to_string(dir.path().join("cells.vtu")).unwrap();
+    assert!(
+        voronoi.contains("NumberOfCells=\"300\""),
+        "one cell per point"
+    );
+}
+
+#[test]
+fn delaunay_2d_to_ele_numbers_from_the_input_first_index() {
+    let dir = tempfile::tempdir().unwrap();
+    write_node(dir.path(), "pts.node", 2, &points(2, 100), 1);
+    let out = delmesh(dir.path(), &["delaunay", "pts.node", "-o", "out/mesh.ele"]);
+    // The output folder does not exist: an error naming it, before any work is done.
+    let msg = fails(&out);
+    assert_eq!(
+        msg,
+        "error: out/mesh.ele: folder 'out' does not exist",
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(stderr(&out).lines().count(), 1);
+
+    std::fs::create_dir(dir.path().join("out")).unwrap();
+    let out = delmesh(dir.path(), &["delaunay", "pts.node", "-o", "out/mesh.ele"]);
+    let summary = ok(&out);
+    let cells = count(&summary, "cells");
+    for f in ["out/mesh.node", "out/mesh.ele", "out/mesh.neigh"] {
+        assert!(summary.contains(&format!("wrote: {f}\n")), "{summary}");
+    }
+    let node = int_rows_head(&dir.path().join("out/mesh.node"));
+    assert_eq!(node, ("100 2 0 0".to_string(), "1".to_string()));
+    let ele = int_rows(&dir.path().join("out/mesh.ele"));
+    assert_eq!(ele[0], vec![cells as i64, 3, 0]);
+    assert_eq!(ele.len(), cells + 1);
+    assert_eq!(ele[1][0], 1);
+    assert!(ele[1..]
+        .iter()
+        .all(|r| r[1..].iter().all(|&v| (1..=100).contains(&v))));
+    let neigh = int_rows(&dir.path().join("out/mesh.neigh"));
+    assert_eq!(neigh[0], vec![cells as i64, 3]);
+    assert_eq!(neigh.len(), cells + 1);
+    assert_eq!(neigh[1][0], 1);
+    assert!(neigh[1..].iter().all(|r| r[1..]
+        .iter()
+        .all(|&n| n == -1 || (1..=cells as i64).contains(&n))));
+}
+
+/// The header line and the first point's index of a `.node` file.
+fn int_rows_head(path: &Path) -> (String, String) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap().to_string();
+    let first = lines
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .to_string();
+    (header, first)
+}
+
+#[test]
+fn delaunay_3d_to_ele_and_vtu_with_voronoi() {
+    let dir = tempfile::tempdir().unwrap();
+    write_node(dir.path(), "cloud.node", 3, &points(3, 200), 0);
+    let out = delmesh(
+        dir.path(),
+        &[
+            "delaunay",
+            "cloud.node",
+            "-o",
+            "tets.ele",
+            "--voronoi",
+            "faces.vtu",
+        ],
+    );
+    let summary = ok(&out);
+    assert_eq!(field(&summary, "dimension"), "3");
+    assert!(field(&summary, "cells").ends_with(" tetrahedra"));
+    assert!(field(&summary, "hull facets").ends_with(" triangles"));
+    check_build_time(&summary);
+    let cells = count(&summary, "cells");
+    let (header, first) = int_rows_head(&dir.path().join("tets.node"));
+    assert_eq!((header.as_str(), first.as_str()), ("200 3 0 0", "0"));
+    let ele = int_rows(&dir.path().join("tets.ele"));
+    assert_eq!(ele[0], vec![cells as i64, 4, 0]);
+    assert_eq!(ele[1][0], 0);
+    assert!(ele[1..]
+        .iter()
+        .all(|r| r.len() == 5 && r[1..].iter().all(|&v| (0..200).contains(&v))));
+    let neigh = int_rows(&dir.path().join("tets.neigh"));
+    assert_eq!(neigh.len(), cells + 1);
+    let faces = std::fs::metadata(dir.path().join("faces.vtu")).unwrap();
+    assert!(faces.len() > 1000, "Voronoi file of {} bytes", faces.len());
+
+    let out = delmesh(
+        dir.path(),
+        &["delaunay", "cloud.node", "-o", "tets.vtu", "-q"],
+    );
+    let quiet = ok(&out);
+    assert_eq!(quiet.lines().count(), 1, "{quiet}");
+    check_build_time(&quiet);
+    let xml = std::fs::read_to_string(dir.path().join("tets.vtu")).unwrap();
+    assert!(xml.contains(&format!("NumberOfCells=\"{cells}\"")));
+}
+
+#[test]
+fn plain_text_input() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("pts.txt"), "0 0\n1 0\n0 1\n1 1.5\n").unwrap();
+    let out = delmesh(dir.path(), &["delaunay", "pts.txt", "-o", "m.ele"]);
+    let summary = ok(&out);
+    assert_eq!(count(&summary, "cells"), 2);
+    assert_eq!(int_rows(&dir.path().join("m.ele"))[1][0], 0);
+}
+
+#[test]
+fn nan_input_names_the_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("bad.node"),
+        "# points\n4 2 0 0\n1 0 0\n2 1 0\n3 nan 1\n4 0 1\n",
+    )
+    .unwrap();
+    let out = delmesh(dir.path(), &["delaunay", "bad.node", "-o", "m.vtu"]);
+    let msg = fails(&out);
+    assert!(msg.starts_with("error: bad.node:5: "), "{msg}");
+    assert!(msg.contains("not finite"), "{msg}");
+    assert!(!dir.path().join("m.vtu").exists());
+}
+
+#[test]
+fn missing_input_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = delmesh(dir.path(), &["delaunay", "nope.node", "-o", "m.vtu"]);
+    let msg = fails(&out);
+    assert!(msg.starts_with("error: nope.node: "), "{msg}");
+}
+
+#[test]
+fn unknown_output_extension_is_an_error_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    write_node(dir.path(), "pts.node", 2, &points(2, 10), 0);
+    let out = delmesh(dir.path(), &["delaunay", "pts.node", "-o", "mesh.stl"]);
+    let msg = fails(&out);
+    assert_eq!(
+        msg,
+        "error: mesh.stl: unsupported output format '.stl' (supported: .vtu, .ele)"
+    );
+    let out = delmesh(
+        dir.path(),
+        &["delaunay", "pts.node", "-o", "m.vtu", "--voronoi", "v.ele"],
+    );
+    let msg = fails(&out);
+    assert!(
+        msg.contains("v.ele: unsupported output format '.ele' (supported: .vtu)"),
+        "{msg}"
+    );
+    assert!(!dir.path().join("m.vtu").exists());
+}
+
+#[test]
+fn duplicates_are_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut pts = points(2, 10);
+    pts.push(pts[2].clone());
+    pts.push(pts[7].clone());
+    write_node(dir.path(), "dups.node", 2, &pts, 1);
+    let out = delmesh(dir.path(), &["delaunay", "dups.node", "-o", "m.vtu"]);
+    let summary = ok(&out);
+    assert_eq!(count(&summary, "points read"), 12);
+    assert_eq!(count(&summary, "duplicates merged"), 2);
+    assert_eq!(count(&summary, "vertices"), 10);
+    assert!(
+        summary.contains("  input 11 repeats input 3\n"),
+        "{summary}"
+    );
+    assert!(
+        summary.contains("  input 12 repeats input 8\n"),
+        "{summary}"
+    );
+}
+
+#[test]
+fn collinear_input_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("line.xyz"), "0 0\n1 1\n2 2\n3 3\n").unwrap();
+    let out = delmesh(dir.path(), &["delaunay", "line.xyz", "-o", "m.vtu"]);
+    let msg = fails(&out);
+    assert_eq!(
+        msg,
+        "error: line.xyz: all 4 distinct points are collinear: no 2D triangulation exists"
+    );
+}
+
+#[test]
+fn demo_without_name_lists_the_demos() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = delmesh(dir.path(), &["demo"]);
+    ok(&out);
+    let text = stdout(&out);
+    for demo in delmesh::demos::DEMOS {
+        assert!(text.contains(demo.name), "{text}");
+    }
+    let out = delmesh(dir.path(), &["demo", "figure99"]);
+    let msg = fails(&out);
+    assert!(
+        msg.contains("unknown demo 'figure99'") && msg.contains("figure1"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn demo_random2d_writes_its_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = delmesh(dir.path(), &["demo", "random2d"]);
+    ok(&out);
+    for f in ["random2d.vtu", "random2d-voronoi.vtu"] {
+        let path = dir.path().join("delmesh-demo-out").join(f);
+        assert!(std::fs::metadata(&path).unwrap().len() > 1000, "{f}");
+    }
+}
+
+/// One row of Table 1: the forming points of a Voronoi vertex and the forming points of each
+/// neighbouring Voronoi vertex (`None` for `*`).
+type Row = (Vec<u32>, Vec<Option<Vec<u32>>>);
+
+/// Parses a Table 1 text (ours or the paper's) into rows keyed by forming points, so that two
+/// tables numbering their Voronoi vertices differently compare equal. Lines that do not start
+/// with a number (headers, rules) are skipped; fields may be separated by spaces, tabs, commas
+/// or `|`.
+fn table_rows(text: &str) -> BTreeSet<Row> {
+    let mut forming_of: BTreeMap<String, Vec<u32>> = BTreeMap::new();
+    let mut raw: Vec<(Vec<u32>, Vec<String>)> = Vec::new();
+    for line in text.lines() {
+        let toks: Vec<&str> = line
+            .split(|c: char| c.is_whitespace() || c == ',' || c == '|')
+            .filter(|t| !t.is_empty())
+            .collect();
+        if toks.is_empty() || toks[0].parse::<u32>().is_err() {
+            continue;
+        }
+        assert_eq!(toks.len(), 7, "a 2D Table 1 row has 7 fields: {line:?}");
+        let mut forming: Vec<u32> = toks[1..4].iter().map(|t| t.parse().unwrap()).collect();
+        forming.sort_unstable();
+        forming_of.insert(toks[0].to_string(), forming.clone());
+        raw.push((forming, toks[4..].iter().map(|t| t.to_string()).collect()));
+    }
+    raw.into_iter()
+        .map(|(forming, ns)| {
+            let mut ns: Vec<Option<Vec<u32>>> = ns
+                .iter()
+                .map(|n| (n != "*").then(|| forming_of[n].clone()))
+                .collect();
+            ns.sort();
+            (forming, ns)
+        })
+        .collect()
+}
+
+fn workspace_file(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(rel)
+}
+
+#[test]
+fn demo_figure1_prints_the_papers_table_1() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = delmesh(dir.path(), &["demo", "figure1", "-o", "tmp"]);
+    ok(&out);
+    let ours = stdout(&out);
+    for f in ["figure1.vtu", "figure1-voronoi.vtu"] {
+        assert!(dir.path().join("tmp").join(f).exists(), "{f}");
+    }
+    let paper = std::fs::read_to_string(workspace_file("data/figure1-table1.txt")).unwrap();
+    let (ours_rows, paper_rows) = (table_rows(&ours), table_rows(&paper));
+    assert!(!paper_rows.is_empty());
+    assert_eq!(ours_rows, paper_rows, "ours:\n{ours}\npaper:\n{paper}");
+    insta::assert_snapshot!("figure1_table", ours);
+}
+
+#[test]
+fn outputs_never_overwrite_the_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write_node(dir.path(), "pts.node", 2, &points(2, 10), 1);
+    let before = std::fs::read(&input).unwrap();
+    // `-o pts.ele` would write pts.node, the input itself.
+    let out = delmesh(dir.path(), &["delaunay", "pts.node", "-o", "pts.ele"]);
+    let msg = fails(&out);
+    assert!(
+        msg.starts_with("error: pts.node: writing this file would overwrite the input"),
+        "{msg}"
+    );
+    assert_eq!(stderr(&out).lines().count(), 1);
+    assert_eq!(std::fs::read(&input).unwrap(), before);
+    assert!(!dir.path().join("pts.ele").exists());
+
+    let out = delmesh(
+        dir.path(),
+        &["delaunay", "pts.node", "-o", "m.vtu", "--voronoi", "m.vtu"],
+    );
+    let msg = fails(&out);
+    assert!(
+        msg.contains("m.vtu: given both as the mesh output and as the --voronoi output"),
+        "{msg}"
+    );
+}
