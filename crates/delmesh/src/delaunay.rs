@@ -375,6 +375,15 @@ impl DelaunayRun {
         Ok(polygons.len())
     }
 
+    /// The kernel's exact validation: neighbour symmetry, orientation, the empty-circumsphere
+    /// property with the symbolic perturbation, incidence and Euler's relation.
+    ///
+    /// # Errors
+    /// The first broken invariant (a bug in delmesh).
+    pub fn validate(&self) -> Result<(), delmesh_delaunay_core::ValidationError> {
+        with_tri!(&self.mesh, t => t.validate())
+    }
+
     /// The paper's Table 1 for this triangulation: one row per Voronoi vertex with its forming
     /// points (numbered from [`DelaunayRun::first_index`]) and neighbouring Voronoi vertices.
     pub fn voronoi_table(&self) -> String {

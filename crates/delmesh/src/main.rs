@@ -52,6 +52,10 @@ struct DelaunayArgs {
     /// No progress bar, and no summary except the `build time:` line.
     #[arg(short, long)]
     quiet: bool,
+    /// Check the result exactly (adjacency, orientation, empty circumspheres, Euler) and print
+    /// `validation: ok`; exit with status 1 if any check fails.
+    #[arg(long)]
+    validate: bool,
 }
 
 #[derive(Args, Debug)]
@@ -128,6 +132,12 @@ fn delaunay(args: &DelaunayArgs) -> Result<()> {
         eprintln!("build time: {:.6} s", run.build_seconds);
     } else {
         eprint!("{}", summary(&run));
+    }
+    if args.validate {
+        let t0 = std::time::Instant::now();
+        run.validate()
+            .map_err(|e| anyhow::anyhow!("{}: validation failed: {e}", args.input.display()))?;
+        eprintln!("validation: ok ({:.3} s)", t0.elapsed().as_secs_f64());
     }
     let mut written = run.write(&args.output)?;
     if let Some(voronoi) = &args.voronoi {

@@ -475,3 +475,24 @@ fn outputs_never_overwrite_the_input() {
         "{msg}"
     );
 }
+
+#[test]
+fn validate_flag_checks_the_result() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("grid.node");
+    let mut text = String::from("64 3 0 0\n");
+    for i in 0..64 {
+        text.push_str(&format!("{i} {} {} {}\n", i % 4, i / 4 % 4, i / 16));
+    }
+    std::fs::write(&input, text).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_delmesh"))
+        .args(["delaunay", input.to_str().unwrap(), "-o"])
+        .arg(dir.path().join("grid-out.ele"))
+        .args(["--quiet", "--validate"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(stderr.contains("validation: ok"), "{stderr}");
+    assert!(stderr.contains("build time: "), "{stderr}");
+}
