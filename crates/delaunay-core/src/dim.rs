@@ -44,6 +44,9 @@ pub trait Dim: Copy + Clone + Debug + Send + Sync + 'static {
     /// with the symbolic perturbation by `ids`: never zero.
     fn insphere_sos(p: &[Self::Point], ids: &[u32]) -> Sign;
 
+    /// [`Dim::insphere_sos`] for points already known to be exactly co-spherical.
+    fn insphere_tiebreak(p: &[Self::Point], ids: &[u32]) -> Sign;
+
     /// Whether the points `p` (at most `N` of them) are affinely independent.
     fn independent(p: &[Self::Point]) -> bool;
 
@@ -104,6 +107,10 @@ impl Dim for D2 {
     #[inline]
     fn insphere_sos(p: &[[f64; 2]], ids: &[u32]) -> Sign {
         pred::incircle_sos([p[0], p[1], p[2], p[3]], [ids[0], ids[1], ids[2], ids[3]])
+    }
+
+    fn insphere_tiebreak(p: &[[f64; 2]], ids: &[u32]) -> Sign {
+        pred::incircle_tiebreak([p[0], p[1], p[2], p[3]], [ids[0], ids[1], ids[2], ids[3]])
     }
 
     fn independent(p: &[[f64; 2]]) -> bool {
@@ -170,6 +177,13 @@ impl Dim for D3 {
     #[inline]
     fn insphere_sos(p: &[[f64; 3]], ids: &[u32]) -> Sign {
         pred::insphere_sos(
+            [p[0], p[1], p[2], p[3], p[4]],
+            [ids[0], ids[1], ids[2], ids[3], ids[4]],
+        )
+    }
+
+    fn insphere_tiebreak(p: &[[f64; 3]], ids: &[u32]) -> Sign {
+        pred::insphere_tiebreak(
             [p[0], p[1], p[2], p[3], p[4]],
             [ids[0], ids[1], ids[2], ids[3], ids[4]],
         )

@@ -534,7 +534,7 @@ impl<D: Dim> Triangulation<D> {
                         ids[k] = cell.v[k].0;
                     }
                     pts[D::C] = p;
-                    D::insphere_sos(&pts[..=D::C], &ids[..=D::C]) == Sign::Positive
+                    D::insphere_tiebreak(&pts[..=D::C], &ids[..=D::C]) == Sign::Positive
                 }
                 s => s == Sign::Positive,
             };

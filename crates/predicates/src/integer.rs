@@ -79,6 +79,11 @@ pub(crate) fn incircle(k: [i64; 8]) -> i32 {
 
 /// Sign of robust's insphere determinant.
 pub(crate) fn insphere(k: [i64; 15]) -> i32 {
+    // Differences below 2^11 keep |det| < 72 · 2^55 < 2^63: plain i64 arithmetic suffices.
+    let small = k.iter().all(|&x| (-(1 << 10)..(1 << 10)).contains(&x));
+    if small {
+        return insphere_i64(k);
+    }
     let d = |p: usize, j: usize| i128::from(k[3 * p + j] - k[12 + j]);
     let v: [[i128; 3]; 4] = std::array::from_fn(|p| [d(p, 0), d(p, 1), d(p, 2)]);
     let [a, b, c, e] = v;
@@ -89,6 +94,21 @@ pub(crate) fn insphere(k: [i64; 15]) -> i32 {
     let cda = c[2] * da + e[2] * ac + a[2] * cd;
     let dab = e[2] * ab + a[2] * bd + b[2] * da;
     let lift = |p: [i128; 3]| p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+    let det = (lift(e) * abc - lift(c) * dab) + (lift(b) * cda - lift(a) * bcd);
+    det.signum() as i32
+}
+
+fn insphere_i64(k: [i64; 15]) -> i32 {
+    let d = |p: usize, j: usize| k[3 * p + j] - k[12 + j];
+    let v: [[i64; 3]; 4] = std::array::from_fn(|p| [d(p, 0), d(p, 1), d(p, 2)]);
+    let [a, b, c, e] = v;
+    let m2 = |p: [i64; 3], q: [i64; 3]| p[0] * q[1] - q[0] * p[1];
+    let (ab, bc, cd, da, ac, bd) = (m2(a, b), m2(b, c), m2(c, e), m2(e, a), m2(a, c), m2(b, e));
+    let abc = a[2] * bc - b[2] * ac + c[2] * ab;
+    let bcd = b[2] * cd - c[2] * bd + e[2] * bc;
+    let cda = c[2] * da + e[2] * ac + a[2] * cd;
+    let dab = e[2] * ab + a[2] * bd + b[2] * da;
+    let lift = |p: [i64; 3]| p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
     let det = (lift(e) * abc - lift(c) * dab) + (lift(b) * cda - lift(a) * bcd);
     det.signum() as i32
 }

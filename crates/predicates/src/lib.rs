@@ -34,7 +34,7 @@ mod integer;
 mod sos;
 
 pub use exact::{incircle, insphere, orient2d, orient3d};
-pub use sos::{incircle_sos, insphere_sos};
+pub use sos::{incircle_sos, incircle_tiebreak, insphere_sos, insphere_tiebreak};
 
 /// Smallest and largest non-zero coordinate magnitudes for which every predicate here is exact
 /// (`2^-142` and `2^201`: the exact expansions of degree-5 `insphere` neither underflow nor

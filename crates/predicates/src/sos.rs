@@ -29,6 +29,14 @@ pub fn incircle_sos(p: [[f64; 2]; 4], ids: [u32; 4]) -> Sign {
     if exact != Sign::Zero {
         return exact;
     }
+    incircle_tiebreak(p, ids)
+}
+
+/// The perturbed answer of [`incircle_sos`] for four points already known to be exactly
+/// co-circular (`incircle` returned zero): saves re-evaluating the determinant.
+///
+/// Precondition: as [`incircle_sos`], and `incircle(p[0], …, p[3])` is zero.
+pub fn incircle_tiebreak(p: [[f64; 2]; 4], ids: [u32; 4]) -> Sign {
     for slot in slots_by_decreasing_id(ids) {
         let coefficient = if slot == 3 {
             orient2d(p[0], p[1], p[2]).reversed()
@@ -56,6 +64,14 @@ pub fn insphere_sos(p: [[f64; 3]; 5], ids: [u32; 5]) -> Sign {
     if exact != Sign::Zero {
         return exact;
     }
+    insphere_tiebreak(p, ids)
+}
+
+/// The perturbed answer of [`insphere_sos`] for five points already known to be exactly
+/// co-spherical (`insphere` returned zero): saves re-evaluating the determinant.
+///
+/// Precondition: as [`insphere_sos`], and `insphere(p[0], …, p[4])` is zero.
+pub fn insphere_tiebreak(p: [[f64; 3]; 5], ids: [u32; 5]) -> Sign {
     for slot in slots_by_decreasing_id(ids) {
         let coefficient = if slot == 4 {
             orient3d(p[0], p[1], p[2], p[3]).reversed()
