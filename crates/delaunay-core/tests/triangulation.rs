@@ -356,3 +356,20 @@ proptest! {
         check_vertices(&t, &pts);
     }
 }
+
+#[test]
+fn huge_degenerate_cavity_uses_the_hashed_linking() {
+    // All points on one sphere, then its centre: the centre's cavity is every cell, with more
+    // boundary vertices than the dense ridge table takes.
+    let pts = sphere_points();
+    assert!(pts.len() > 256, "{}", pts.len());
+    let mut t = Triangulation3::new(&pts).unwrap();
+    t.insert([0.0, 0.0, 0.0]).unwrap();
+    t.validate().unwrap();
+    // Every hull facet now forms a tetrahedron with the centre.
+    assert_eq!(t.num_cells(), t.num_hull_facets());
+    let mut t2 = Triangulation2::new(&circle_points()).unwrap();
+    t2.insert([0.0, 0.0]).unwrap();
+    t2.validate().unwrap();
+    assert_eq!(t2.num_cells(), circle_points().len());
+}
