@@ -41,11 +41,11 @@ pub trait Dim: Copy + Clone + Debug + Send + Sync + 'static {
     ) -> Sign;
 
     /// Whether `p[C]` lies inside the circumsphere of the positively oriented cell `p[0..C]`,
-    /// with the symbolic perturbation by `ids`: never zero.
-    fn insphere_sos(p: &[Self::Point], ids: &[u32]) -> Sign;
+    /// with the symbolic perturbation ranked by the points' lexicographic order: never zero.
+    fn insphere_sos(p: &[Self::Point]) -> Sign;
 
     /// [`Dim::insphere_sos`] for points already known to be exactly co-spherical.
-    fn insphere_tiebreak(p: &[Self::Point], ids: &[u32]) -> Sign;
+    fn insphere_tiebreak(p: &[Self::Point]) -> Sign;
 
     /// Whether the points `p` (at most `N` of them) are affinely independent.
     fn independent(p: &[Self::Point]) -> bool;
@@ -55,6 +55,14 @@ pub trait Dim: Copy + Clone + Debug + Send + Sync + 'static {
 
     /// Circumcentre of the cell `p[0..C]` (a floating-point construction).
     fn circumcenter(p: &[Self::Point]) -> Self::Point;
+}
+
+/// The perturbation rank of a point: its coordinates in lexicographic order, reversed so that
+/// the lexicographically smallest point is perturbed most. Ranking by geometry rather than by
+/// vertex number makes the triangulation of degenerate input independent of the input order.
+#[inline]
+fn rank<const N: usize>(p: [f64; N]) -> std::cmp::Reverse<pred::Lex<N>> {
+    std::cmp::Reverse(pred::Lex(p))
 }
 
 /// Two dimensions: triangles.
@@ -105,12 +113,14 @@ impl Dim for D2 {
     }
 
     #[inline]
-    fn insphere_sos(p: &[[f64; 2]], ids: &[u32]) -> Sign {
-        pred::incircle_sos([p[0], p[1], p[2], p[3]], [ids[0], ids[1], ids[2], ids[3]])
+    fn insphere_sos(p: &[[f64; 2]]) -> Sign {
+        let p = [p[0], p[1], p[2], p[3]];
+        pred::incircle_sos(p, p.map(rank))
     }
 
-    fn insphere_tiebreak(p: &[[f64; 2]], ids: &[u32]) -> Sign {
-        pred::incircle_tiebreak([p[0], p[1], p[2], p[3]], [ids[0], ids[1], ids[2], ids[3]])
+    fn insphere_tiebreak(p: &[[f64; 2]]) -> Sign {
+        let p = [p[0], p[1], p[2], p[3]];
+        pred::incircle_tiebreak(p, p.map(rank))
     }
 
     fn independent(p: &[[f64; 2]]) -> bool {
@@ -175,18 +185,14 @@ impl Dim for D3 {
     }
 
     #[inline]
-    fn insphere_sos(p: &[[f64; 3]], ids: &[u32]) -> Sign {
-        pred::insphere_sos(
-            [p[0], p[1], p[2], p[3], p[4]],
-            [ids[0], ids[1], ids[2], ids[3], ids[4]],
-        )
+    fn insphere_sos(p: &[[f64; 3]]) -> Sign {
+        let p = [p[0], p[1], p[2], p[3], p[4]];
+        pred::insphere_sos(p, p.map(rank))
     }
 
-    fn insphere_tiebreak(p: &[[f64; 3]], ids: &[u32]) -> Sign {
-        pred::insphere_tiebreak(
-            [p[0], p[1], p[2], p[3], p[4]],
-            [ids[0], ids[1], ids[2], ids[3], ids[4]],
-        )
+    fn insphere_tiebreak(p: &[[f64; 3]]) -> Sign {
+        let p = [p[0], p[1], p[2], p[3], p[4]];
+        pred::insphere_tiebreak(p, p.map(rank))
     }
 
     fn independent(p: &[[f64; 3]]) -> bool {

@@ -528,13 +528,11 @@ impl<D: Dim> Triangulation<D> {
             return match D::insphere_cell(&self.points, &cell.v, p) {
                 Sign::Zero => {
                     let mut pts = [D::Point::default(); 5];
-                    let mut ids = [v.0; 5];
                     for k in 0..D::C {
                         pts[k] = self.points[cell.v[k].index()];
-                        ids[k] = cell.v[k].0;
                     }
                     pts[D::C] = p;
-                    D::insphere_tiebreak(&pts[..=D::C], &ids[..=D::C]) == Sign::Positive
+                    D::insphere_tiebreak(&pts[..=D::C]) == Sign::Positive
                 }
                 s => s == Sign::Positive,
             };

@@ -373,3 +373,40 @@ fn huge_degenerate_cavity_uses_the_hashed_linking() {
     t2.validate().unwrap();
     assert_eq!(t2.num_cells(), circle_points().len());
 }
+
+/// The perturbation ranks points by their coordinates, so a degenerate set gets the same
+/// triangulation whatever the input order.
+#[test]
+fn degenerate_sets_do_not_depend_on_input_order() {
+    fn cells_by_coords(pts: &[[f64; 3]]) -> std::collections::BTreeSet<Vec<[u64; 3]>> {
+        let t = Triangulation3::new(pts).unwrap();
+        t.validate().unwrap();
+        t.cells()
+            .map(|c| {
+                let mut v: Vec<[u64; 3]> = t
+                    .cell(c)
+                    .iter()
+                    .map(|&v| t.vertex(v).map(f64::to_bits))
+                    .collect();
+                v.sort_unstable();
+                v
+            })
+            .collect()
+    }
+    let pts = grid3(6);
+    let mut reversed = pts.clone();
+    reversed.reverse();
+    let mut shuffled = pts.clone();
+    let n = shuffled.len();
+    for i in 0..n {
+        shuffled.swap(i, (i * 7919 + 13) % n);
+    }
+    let base = cells_by_coords(&pts);
+    assert_eq!(
+        base.len(),
+        6 * 5 * 5 * 5,
+        "six tetrahedra per co-spherical cube"
+    );
+    assert_eq!(cells_by_coords(&reversed), base);
+    assert_eq!(cells_by_coords(&shuffled), base);
+}

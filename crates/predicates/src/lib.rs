@@ -8,7 +8,8 @@
 //!
 //! On top of that, [`incircle_sos`] and [`insphere_sos`] never answer [`Sign::Zero`]: four
 //! co-circular (five co-spherical) points are resolved by a *symbolic perturbation* of the lifted
-//! coordinate `w = |p|² + ε^(rank)`, ranked by the points' ids. This is a genuine (infinitesimal)
+//! coordinate `w = |p|² + ε^(rank)`, ranked by the caller's keys (delmesh ranks points by their
+//! coordinates in lexicographic order, see [`Lex`]). This is a genuine (infinitesimal)
 //! perturbation of the input, so all answers are consistent with each other: the triangulation
 //! built from them is one of the Delaunay triangulations of the unperturbed points (see
 //! Edelsbrunner & Mücke, "Simulation of simplicity", 1990, and Devillers & Teillaud,
@@ -34,7 +35,7 @@ mod integer;
 mod sos;
 
 pub use exact::{incircle, insphere, orient2d, orient3d};
-pub use sos::{incircle_sos, incircle_tiebreak, insphere_sos, insphere_tiebreak};
+pub use sos::{incircle_sos, incircle_tiebreak, insphere_sos, insphere_tiebreak, Lex};
 
 /// Smallest and largest non-zero coordinate magnitudes for which every predicate here is exact
 /// (`2^-142` and `2^201`: the exact expansions of degree-5 `insphere` neither underflow nor

@@ -20,11 +20,12 @@ use crate::{incircle, insphere, orient2d, orient3d, Sign};
 /// In-circle test with symbolic perturbation: [`Sign::Positive`] if `p[3]` is inside the circle
 /// through `p[0], p[1], p[2]`, never [`Sign::Zero`] for distinct ids.
 ///
-/// `ids` are the points' global identifiers (any consistent total order, e.g. vertex indices):
-/// the same point must always carry the same id, and distinct points distinct ids.
+/// `ids` rank the points (any consistent total order: vertex indices, or [`Lex`] for the
+/// coordinates themselves): the same point must always carry the same id, and distinct points
+/// distinct ids. The point with the largest id is perturbed most.
 ///
 /// Precondition: `orient2d(p[0], p[1], p[2])` is positive.
-pub fn incircle_sos(p: [[f64; 2]; 4], ids: [u32; 4]) -> Sign {
+pub fn incircle_sos<K: Ord + Copy>(p: [[f64; 2]; 4], ids: [K; 4]) -> Sign {
     let exact = incircle(p[0], p[1], p[2], p[3]);
     if exact != Sign::Zero {
         return exact;
@@ -36,7 +37,7 @@ pub fn incircle_sos(p: [[f64; 2]; 4], ids: [u32; 4]) -> Sign {
 /// co-circular (`incircle` returned zero): saves re-evaluating the determinant.
 ///
 /// Precondition: as [`incircle_sos`], and `incircle(p[0], …, p[3])` is zero.
-pub fn incircle_tiebreak(p: [[f64; 2]; 4], ids: [u32; 4]) -> Sign {
+pub fn incircle_tiebreak<K: Ord + Copy>(p: [[f64; 2]; 4], ids: [K; 4]) -> Sign {
     for slot in slots_by_decreasing_id(ids) {
         let coefficient = if slot == 3 {
             orient2d(p[0], p[1], p[2]).reversed()
@@ -59,7 +60,7 @@ pub fn incircle_tiebreak(p: [[f64; 2]; 4], ids: [u32; 4]) -> Sign {
 /// `ids` are the points' global identifiers, as for [`incircle_sos`].
 ///
 /// Precondition: `orient3d(p[0], p[1], p[2], p[3])` is positive.
-pub fn insphere_sos(p: [[f64; 3]; 5], ids: [u32; 5]) -> Sign {
+pub fn insphere_sos<K: Ord + Copy>(p: [[f64; 3]; 5], ids: [K; 5]) -> Sign {
     let exact = insphere(p[0], p[1], p[2], p[3], p[4]);
     if exact != Sign::Zero {
         return exact;
@@ -71,7 +72,7 @@ pub fn insphere_sos(p: [[f64; 3]; 5], ids: [u32; 5]) -> Sign {
 /// co-spherical (`insphere` returned zero): saves re-evaluating the determinant.
 ///
 /// Precondition: as [`insphere_sos`], and `insphere(p[0], …, p[4])` is zero.
-pub fn insphere_tiebreak(p: [[f64; 3]; 5], ids: [u32; 5]) -> Sign {
+pub fn insphere_tiebreak<K: Ord + Copy>(p: [[f64; 3]; 5], ids: [K; 5]) -> Sign {
     for slot in slots_by_decreasing_id(ids) {
         let coefficient = if slot == 4 {
             orient3d(p[0], p[1], p[2], p[3]).reversed()
@@ -88,9 +89,35 @@ pub fn insphere_tiebreak(p: [[f64; 3]; 5], ids: [u32; 5]) -> Sign {
     Sign::Zero
 }
 
+/// A point ranked by its coordinates, compared lexicographically (x, then y, then z): a
+/// perturbation order that depends only on the geometry, so the perturbed triangulation does not
+/// depend on the order or numbering of the input (and matches CGAL's choice on grids).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lex<const N: usize>(pub [f64; N]);
+
+impl<const N: usize> Eq for Lex<N> {}
+
+impl<const N: usize> PartialOrd for Lex<N> {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl<const N: usize> Ord for Lex<N> {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        for k in 0..N {
+            match self.0[k].total_cmp(&other.0[k]) {
+                std::cmp::Ordering::Equal => {}
+                o => return o,
+            }
+        }
+        std::cmp::Ordering::Equal
+    }
+}
+
 /// The slots `0..N` ordered by decreasing id (a sorting network would do; N ≤ 5).
 #[inline]
-fn slots_by_decreasing_id<const N: usize>(ids: [u32; N]) -> [usize; N] {
+fn slots_by_decreasing_id<K: Ord + Copy, const N: usize>(ids: [K; N]) -> [usize; N] {
     let mut slots: [usize; N] = std::array::from_fn(|i| i);
     slots.sort_unstable_by(|&a, &b| ids[b].cmp(&ids[a]));
     slots
