@@ -293,9 +293,10 @@ impl<D: Dim> Triangulation<D> {
             match tri.insert_scaled(tri.points[pos], i) {
                 Insertion::Inserted(_) => {}
                 Insertion::Duplicate(v) => {
+                    // The vertex stands for the first occurrence in the caller's order.
                     tri.vertex_of_input[i as usize] = v;
-                    let original = tri.input_index[v.index()] as usize;
-                    tri.duplicates.push((i as usize, original));
+                    let first = &mut tri.input_index[v.index()];
+                    *first = (*first).min(i);
                 }
             }
             done += 1;
@@ -304,7 +305,12 @@ impl<D: Dim> Triangulation<D> {
                 next_report += 1 << 16;
             }
         }
-        tri.duplicates.sort_unstable();
+        tri.duplicates = (0..total)
+            .filter_map(|i| {
+                let first = tri.input_index[tri.vertex_of_input[i].index()] as usize;
+                (first != i).then_some((i, first))
+            })
+            .collect();
         tri.points.truncate(tri.input_index.len());
         tri.bulk = false;
         tri.rebuild_incident();
@@ -824,7 +830,8 @@ impl<D: Dim> Triangulation<D> {
         self.vertex_of_input[i]
     }
 
-    /// Input points that repeat an earlier one: `(duplicate, original)` input indices, sorted.
+    /// Input points that repeat an earlier one: `(duplicate, first occurrence)` input indices,
+    /// sorted. The vertex keeps the first occurrence's input index.
     pub fn duplicates(&self) -> &[(usize, usize)] {
         &self.duplicates
     }

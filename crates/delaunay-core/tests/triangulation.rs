@@ -166,6 +166,9 @@ fn duplicates_are_merged_and_reported() {
     assert_eq!(t.duplicates().len(), 51);
     for &(dup, orig) in t.duplicates() {
         assert_eq!(pts[dup], pts[orig]);
+        // The first occurrence is the original, whatever the insertion order.
+        assert!(orig < dup);
+        assert!(pts[..orig].iter().all(|p| p != &pts[dup]));
     }
 }
 
