@@ -1,5 +1,5 @@
-//! Seeded point-set generators for validation and benchmarks, and the catalog of
-//! named cases built from them.
+//! Seeded point-set generators for validation and benchmarks, and the table of case
+//! families built from them.
 //!
 //! Every case writes a 0-based `.node` file (see `formats::write_node`) whose
 //! coordinates are printed round-trip exact, so every tool reads bit-identical
@@ -7,9 +7,12 @@
 //! needs no `rand` dependency and a case's file never changes across platforms or
 //! dependency upgrades: same name, same bytes.
 //!
-//! A command that needs cases (ref-check, ref-bench, and later validate) is a table
-//! of [`Case`] entries; add a new kind of input by adding a [`Gen`] variant and a
-//! catalog entry.
+//! The validation table is [`FAMILIES`]: one entry per kind of input (generator with
+//! its dimension, what can be checked on it, sizes for `--quick` and full runs). A
+//! concrete [`Case`] is a family at one size, named `<family>-<size>` (`uniform3d-100k`,
+//! `grid3d-20`). To add inputs, add a [`Gen`] variant if needed and a [`FAMILIES`]
+//! entry; to add a new kind of check (e.g. mesh generation from a PLC), add a [`Kind`]
+//! variant and its checks in `validate::check_case`.
 
 use std::f64::consts::TAU;
 use std::fs;
@@ -105,17 +108,30 @@ impl Gen {
         }
     }
 
-    /// True when no dim+2 points are (exactly) co-spherical, with probability one, so
-    /// the Delaunay triangulation is unique and every correct tool must produce the
-    /// same cell set (after merging duplicates). False for grids.
-    pub fn unique_delaunay(&self) -> bool {
-        !matches!(self, Gen::Grid { .. })
+    /// The same generator with its size parameter (the side `k` for grids, the number
+    /// of points otherwise) set to `size`.
+    pub fn with_size(mut self, size: usize) -> Gen {
+        match &mut self {
+            Gen::Grid { k, .. } => *k = size,
+            Gen::Uniform { n, .. } | Gen::Blobs { n, .. } | Gen::Sphere { n } => *n = size,
+            Gen::Slab { n, .. } | Gen::Duplicates { n, .. } => *n = size,
+        }
+        self
     }
 
     /// The measure (volume/area) of the convex hull when it is known exactly.
     pub fn hull_measure(&self) -> Option<f64> {
         match *self {
             Gen::Grid { dim, k } => Some(((k - 1) as f64).powi(dim as i32)),
+            _ => None,
+        }
+    }
+
+    /// [`Gen::hull_measure`] as an exact total, for comparison with
+    /// `formats::total_measure`.
+    pub fn hull_total(&self) -> Option<formats::Total> {
+        match *self {
+            Gen::Grid { dim, k } => Some(formats::Total::of_cube(k as u64 - 1, dim)),
             _ => None,
         }
     }
@@ -180,117 +196,246 @@ impl Gen {
     }
 }
 
-/// A named, seeded input.
+/// What can be asserted about a case, i.e. which checks `validate` runs on it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// No dim+2 points are exactly co-spherical (with probability one), so the Delaunay
+    /// triangulation is unique: delmesh's cell set must equal CGAL's and TetGen's
+    /// exactly (after merging duplicate points).
+    GeneralPosition,
+    /// Exactly co-spherical points (grids): the Delaunay triangulation is not unique
+    /// and each tool breaks ties its own way. Checked: delmesh's own exact validation,
+    /// the same number of cells as the reference tools, and the same total measure.
+    Degenerate,
+    // Later: PLC inputs for mesh generation (boundary recovery, refinement). Their
+    // checks (boundary conformity, quality bounds, comparison with `tetgen -pq`) go in
+    // `validate::check_case`, next to the two kinds above.
+}
+
+impl Kind {
+    /// Short label for tables.
+    pub fn label(self) -> &'static str {
+        match self {
+            Kind::GeneralPosition => "general",
+            Kind::Degenerate => "degenerate",
+        }
+    }
+}
+
+/// One row of the validation table: a generator at several sizes.
 #[derive(Debug, Clone, Copy)]
+pub struct Family {
+    /// Case names are `<name>-<size label>`.
+    pub name: &'static str,
+    /// Generator, with its dimension; its size parameter is replaced by each size below.
+    pub gen: Gen,
+    /// What the checks may assume.
+    pub kind: Kind,
+    /// Base PRNG seed (each size gets its own seed derived from it).
+    pub seed: u64,
+    /// Sizes (points, or the side for grids) run by `validate --quick`.
+    pub quick: &'static [usize],
+    /// Sizes run by `validate` (full mode).
+    pub full: &'static [usize],
+}
+
+impl Family {
+    /// The family at size `size`.
+    pub fn case(&self, size: usize) -> Case {
+        Case {
+            name: match self.gen {
+                // A grid's size is its side: `grid3d-100`, not `grid3d-100k`-like labels.
+                Gen::Grid { .. } => format!("{}-{size}", self.name),
+                _ => format!("{}-{}", self.name, size_label(size)),
+            },
+            gen: self.gen.with_size(size),
+            kind: self.kind,
+            seed: self.seed.wrapping_mul(1_000_003).wrapping_add(size as u64),
+        }
+    }
+
+    /// Its cases in quick or full mode.
+    pub fn cases(&self, quick: bool) -> Vec<Case> {
+        let sizes = if quick { self.quick } else { self.full };
+        sizes.iter().map(|&s| self.case(s)).collect()
+    }
+}
+
+const K: usize = 1_000;
+const M: usize = 1_000_000;
+
+/// The validation table. Full sizes include the quick ones.
+pub const FAMILIES: &[Family] = &[
+    Family {
+        name: "uniform3d",
+        gen: Gen::Uniform { dim: 3, n: 0 },
+        kind: Kind::GeneralPosition,
+        seed: 1,
+        quick: &[10 * K, 100 * K],
+        full: &[10 * K, 100 * K, M],
+    },
+    Family {
+        name: "uniform2d",
+        gen: Gen::Uniform { dim: 2, n: 0 },
+        kind: Kind::GeneralPosition,
+        seed: 2,
+        quick: &[100 * K],
+        full: &[100 * K, M],
+    },
+    Family {
+        name: "blobs3d",
+        gen: Gen::Blobs {
+            dim: 3,
+            n: 0,
+            blobs: 8,
+            sigma: 0.02,
+        },
+        kind: Kind::GeneralPosition,
+        seed: 3,
+        quick: &[100 * K],
+        full: &[100 * K, M],
+    },
+    // Rounded to doubles, the points are only nearly co-spherical: general position,
+    // but every insphere test is close to zero, which exercises the exact fallbacks.
+    Family {
+        name: "sphere3d",
+        gen: Gen::Sphere { n: 0 },
+        kind: Kind::GeneralPosition,
+        seed: 4,
+        quick: &[10 * K],
+        full: &[10 * K, 100 * K],
+    },
+    Family {
+        name: "grid3d",
+        gen: Gen::Grid { dim: 3, k: 0 },
+        kind: Kind::Degenerate,
+        seed: 0,
+        quick: &[20],
+        full: &[20, 100],
+    },
+    Family {
+        name: "grid2d",
+        gen: Gen::Grid { dim: 2, k: 0 },
+        kind: Kind::Degenerate,
+        seed: 0,
+        quick: &[100],
+        full: &[100, 1000],
+    },
+    Family {
+        name: "slab3d",
+        gen: Gen::Slab {
+            n: 0,
+            thickness: 1e-3,
+        },
+        kind: Kind::GeneralPosition,
+        seed: 5,
+        quick: &[10 * K],
+        full: &[10 * K, 100 * K],
+    },
+    Family {
+        name: "dups3d",
+        gen: Gen::Duplicates {
+            dim: 3,
+            n: 0,
+            permille: 50,
+        },
+        kind: Kind::GeneralPosition,
+        seed: 6,
+        quick: &[10 * K],
+        full: &[10 * K, 100 * K],
+    },
+    Family {
+        name: "dups2d",
+        gen: Gen::Duplicates {
+            dim: 2,
+            n: 0,
+            permille: 50,
+        },
+        kind: Kind::GeneralPosition,
+        seed: 7,
+        quick: &[10 * K],
+        full: &[10 * K, 100 * K],
+    },
+];
+
+/// `10k`, `1m`, or the plain number.
+pub fn size_label(size: usize) -> String {
+    if size >= M && size % M == 0 {
+        format!("{}m", size / M)
+    } else if size >= K && size % K == 0 {
+        format!("{}k", size / K)
+    } else {
+        size.to_string()
+    }
+}
+
+/// Inverse of [`size_label`].
+pub fn parse_size(label: &str) -> Option<usize> {
+    let (digits, scale) = match label.as_bytes().last()? {
+        b'k' => (&label[..label.len() - 1], K),
+        b'm' => (&label[..label.len() - 1], M),
+        _ => (label, 1),
+    };
+    digits.parse::<usize>().ok()?.checked_mul(scale)
+}
+
+/// A family at one size: a named, seeded input.
+#[derive(Debug, Clone)]
 pub struct Case {
     /// File stem and the name used on the command line.
-    pub name: &'static str,
+    pub name: String,
     /// Generator and its parameters.
     pub gen: Gen,
+    /// Which checks apply.
+    pub kind: Kind,
     /// PRNG seed (unused by grids).
     pub seed: u64,
 }
 
 impl Case {
+    /// The points, as if read back from the case's `.node` file (the writer is
+    /// round-trip exact).
+    pub fn node(&self) -> formats::NodeFile {
+        formats::NodeFile {
+            dim: self.gen.dim(),
+            first_index: 0,
+            coords: self.gen.points(self.seed),
+            nattr: 0,
+            attrs: vec![],
+        }
+    }
+
     /// Writes `<dir>/<name>.node` and returns its path. Always regenerates: writing
     /// even 10^6 points takes well under a second, and a cache could go stale when a
     /// generator changes.
     pub fn write(&self, dir: &Path) -> Result<PathBuf> {
+        self.write_node(dir, &self.node())
+    }
+
+    /// Writes `node` (this case's points, from [`Case::node`]) as `<dir>/<name>.node`.
+    pub fn write_node(&self, dir: &Path, node: &formats::NodeFile) -> Result<PathBuf> {
         fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
         let path = dir.join(format!("{}.node", self.name));
-        formats::write_node(&path, self.gen.dim(), &self.gen.points(self.seed), 0, &[])?;
+        formats::write_node(&path, node.dim, &node.coords, 0, &[])?;
         Ok(path)
     }
 }
 
-const fn case(name: &'static str, seed: u64, gen: Gen) -> Case {
-    Case { name, gen, seed }
-}
-
-/// Every named case. Commands pick from here by name.
-pub const CATALOG: &[Case] = &[
-    case("uniform3d-10k", 11, Gen::Uniform { dim: 3, n: 10_000 }),
-    case("uniform3d-100k", 12, Gen::Uniform { dim: 3, n: 100_000 }),
-    case(
-        "uniform3d-1m",
-        13,
-        Gen::Uniform {
-            dim: 3,
-            n: 1_000_000,
-        },
-    ),
-    case("uniform2d-10k", 21, Gen::Uniform { dim: 2, n: 10_000 }),
-    case("uniform2d-100k", 22, Gen::Uniform { dim: 2, n: 100_000 }),
-    case(
-        "uniform2d-1m",
-        23,
-        Gen::Uniform {
-            dim: 2,
-            n: 1_000_000,
-        },
-    ),
-    case(
-        "blobs3d-100k",
-        31,
-        Gen::Blobs {
-            dim: 3,
-            n: 100_000,
-            blobs: 8,
-            sigma: 0.02,
-        },
-    ),
-    case(
-        "blobs2d-100k",
-        32,
-        Gen::Blobs {
-            dim: 2,
-            n: 100_000,
-            blobs: 8,
-            sigma: 0.02,
-        },
-    ),
-    case("sphere-10k", 41, Gen::Sphere { n: 10_000 }),
-    case("sphere-100k", 42, Gen::Sphere { n: 100_000 }),
-    case("grid3d-20", 0, Gen::Grid { dim: 3, k: 20 }),
-    case("grid3d-100", 0, Gen::Grid { dim: 3, k: 100 }),
-    case("grid2d-300", 0, Gen::Grid { dim: 2, k: 300 }),
-    case(
-        "slab3d-100k",
-        51,
-        Gen::Slab {
-            n: 100_000,
-            thickness: 1e-3,
-        },
-    ),
-    case(
-        "dups3d-10k",
-        61,
-        Gen::Duplicates {
-            dim: 3,
-            n: 10_000,
-            permille: 50,
-        },
-    ),
-    case(
-        "dups2d-10k",
-        62,
-        Gen::Duplicates {
-            dim: 2,
-            n: 10_000,
-            permille: 50,
-        },
-    ),
-];
-
-/// Looks a case up by name.
+/// Looks a case up by name: `<family>-<size>` for any family of [`FAMILIES`] and any
+/// size (`uniform3d-100k`, `grid3d-35`, `sphere3d-2m`).
 pub fn by_name(name: &str) -> Result<Case> {
-    CATALOG
-        .iter()
-        .copied()
-        .find(|c| c.name == name)
+    name.rsplit_once('-')
+        .and_then(|(fam, size)| {
+            let f = FAMILIES.iter().find(|f| f.name == fam)?;
+            Some(f.case(parse_size(size).filter(|&s| s > 0)?))
+        })
         .with_context(|| {
-            let names: Vec<&str> = CATALOG.iter().map(|c| c.name).collect();
-            format!("unknown case `{name}`; known: {}", names.join(", "))
+            let names: Vec<&str> = FAMILIES.iter().map(|f| f.name).collect();
+            format!(
+                "unknown case `{name}`: expected <family>-<size> (e.g. uniform3d-100k, \
+                 grid3d-20) with family one of {}",
+                names.join(", ")
+            )
         })
 }
 
@@ -298,9 +443,23 @@ pub fn by_name(name: &str) -> Result<Case> {
 mod tests {
     use super::*;
 
+    /// Every case of every family, quick and full sizes.
+    fn catalog() -> Vec<Case> {
+        let mut all = Vec::new();
+        for f in FAMILIES {
+            for &s in f.full.iter().chain(f.quick) {
+                let c = f.case(s);
+                if !all.iter().any(|a: &Case| a.name == c.name) {
+                    all.push(c);
+                }
+            }
+        }
+        all
+    }
+
     #[test]
     fn generators_are_deterministic_and_sized() {
-        for c in CATALOG.iter().filter(|c| c.gen.len() <= 100_000) {
+        for c in catalog().iter().filter(|c| c.gen.len() <= 100_000) {
             let a = c.gen.points(c.seed);
             assert_eq!(a.len(), c.gen.len() * c.gen.dim(), "{}", c.name);
             assert_eq!(a, c.gen.points(c.seed), "{}", c.name);
@@ -311,20 +470,50 @@ mod tests {
     #[test]
     fn duplicates_case_has_duplicates() {
         let c = by_name("dups3d-10k").unwrap();
-        let node = formats::NodeFile {
-            dim: 3,
-            first_index: 0,
-            coords: c.gen.points(c.seed),
-            nattr: 0,
-            attrs: vec![],
-        };
-        let map = formats::duplicate_canonical_map(&node).expect("duplicates");
+        let map = formats::duplicate_canonical_map(&c.node()).expect("duplicates");
         let dups = map
             .iter()
             .enumerate()
             .filter(|&(i, &m)| m as usize != i)
             .count();
         assert!((300..700).contains(&dups), "{dups}");
+    }
+
+    #[test]
+    fn names_round_trip() {
+        for c in catalog() {
+            let again = by_name(&c.name).unwrap();
+            assert_eq!((again.gen, again.seed, again.kind), (c.gen, c.seed, c.kind));
+        }
+        assert_eq!(by_name("grid3d-20").unwrap().gen.len(), 8000);
+        assert_eq!(by_name("grid2d-1000").unwrap().name, "grid2d-1000");
+        assert_eq!(by_name("uniform2d-1m").unwrap().gen.len(), 1_000_000);
+        assert_eq!(by_name("sphere3d-2500").unwrap().gen.len(), 2500);
+        for bad in [
+            "uniform3d",
+            "cube-10k",
+            "uniform3d-",
+            "uniform3d-0",
+            "grid3d-x",
+        ] {
+            assert!(by_name(bad).is_err(), "{bad}");
+        }
+        assert_eq!(size_label(1_000_000), "1m");
+        assert_eq!(size_label(2_500), "2500");
+        assert_eq!(parse_size("100k"), Some(100_000));
+    }
+
+    #[test]
+    fn full_sizes_include_quick_ones() {
+        for f in FAMILIES {
+            assert!(f.quick.iter().all(|s| f.full.contains(s)), "{}", f.name);
+            let g = f.gen.with_size(7);
+            let expected = match g {
+                Gen::Grid { dim, .. } => 7usize.pow(dim as u32),
+                _ => 7,
+            };
+            assert_eq!(g.len(), expected, "{}", f.name);
+        }
     }
 
     #[test]

@@ -230,39 +230,91 @@ impl CellSet {
     }
 }
 
+/// Splits one line of an integer-only file (`.ele`, `.cells`) into its numbers,
+/// appended to `out`: fields are separated by ASCII whitespace or commas, `#` starts a
+/// comment. A hand-rolled byte scanner: a 10^6-point tetrahedralization has 6.5
+/// million lines, and this is several times faster than splitting into strings.
+/// Returns the offending field on anything but an optionally signed decimal integer.
+fn int_fields(line: &[u8], out: &mut Vec<i64>) -> Result<(), String> {
+    out.clear();
+    let mut i = 0;
+    while i < line.len() {
+        let b = line[i];
+        if b == b'#' {
+            break;
+        }
+        if b.is_ascii_whitespace() || b == b',' {
+            i += 1;
+            continue;
+        }
+        let start = i;
+        while i < line.len()
+            && !(line[i].is_ascii_whitespace() || line[i] == b',' || line[i] == b'#')
+        {
+            i += 1;
+        }
+        let field = &line[start..i];
+        let (neg, digits) = match field.first() {
+            Some(b'-') => (true, &field[1..]),
+            Some(b'+') => (false, &field[1..]),
+            _ => (false, field),
+        };
+        let bad = || String::from_utf8_lossy(field).into_owned();
+        if digits.is_empty() || digits.len() > 18 || !digits.iter().all(u8::is_ascii_digit) {
+            return Err(bad());
+        }
+        let v = digits
+            .iter()
+            .fold(0i64, |acc, &d| acc * 10 + i64::from(d - b'0'));
+        out.push(if neg { -v } else { v });
+    }
+    Ok(())
+}
+
+/// Iterates the lines of `bytes` that hold numbers, as (1-based line number, numbers).
+fn int_lines<'a>(
+    bytes: &'a [u8],
+    path: &'a Path,
+) -> impl Iterator<Item = Result<(usize, Vec<i64>)>> + 'a {
+    let mut fields = Vec::with_capacity(8);
+    bytes
+        .split(|&b| b == b'\n')
+        .enumerate()
+        .filter_map(move |(i, line)| match int_fields(line, &mut fields) {
+            Err(f) => Some(Err(anyhow::anyhow!(
+                "{}:{}: bad integer `{f}`",
+                path.display(),
+                i + 1
+            ))),
+            Ok(()) if fields.is_empty() => None,
+            Ok(()) => Some(Ok((i + 1, fields.clone()))),
+        })
+}
+
 /// Reads a `.cells` file (see the module docs); the arity is taken from the first
 /// line (an empty file gives an empty set of arity `default_arity`). The content is
 /// re-canonicalized, so a hand-edited file still compares correctly.
 pub fn read_cells(path: &Path, default_arity: usize) -> Result<CellSet> {
-    let text = fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let bytes = fs::read(path).with_context(|| format!("reading {}", path.display()))?;
     let mut arity = 0;
-    let mut cells = Vec::new();
-    for (ln, line) in text.lines().enumerate() {
-        let mut c = [PAD; 4];
-        let mut k = 0;
-        for f in line.split_ascii_whitespace() {
-            ensure!(k < 4, "{}:{}: more than 4 vertices", path.display(), ln + 1);
-            c[k] = parse_field(f, ln + 1, path)?;
-            k += 1;
-        }
-        if k == 0 {
-            continue;
-        }
+    let mut cells = Vec::with_capacity(bytes.len() / 24);
+    for line in int_lines(&bytes, path) {
+        let (ln, f) = line?;
         if arity == 0 {
-            arity = k;
+            arity = f.len();
             ensure!(
                 arity == 3 || arity == 4,
-                "{}: cells of {k} vertices",
+                "{}: cells of {arity} vertices",
                 path.display()
             );
         }
         ensure!(
-            k == arity,
-            "{}:{}: {k} vertices, expected {arity}",
+            f.len() == arity,
+            "{}:{ln}: {} vertices, expected {arity}",
             path.display(),
-            ln + 1
+            f.len()
         );
-        cells.push(c);
+        cells.push(to_cell(&f, 0, path, ln)?);
     }
     Ok(CellSet::new(
         if arity == 0 { default_arity } else { arity },
@@ -270,48 +322,48 @@ pub fn read_cells(path: &Path, default_arity: usize) -> Result<CellSet> {
     ))
 }
 
+/// The first up-to-4 numbers of `f`, minus `shift`, as a padded cell.
+fn to_cell(f: &[i64], shift: i64, path: &Path, ln: usize) -> Result<[u32; 4]> {
+    let mut c = [PAD; 4];
+    for (slot, &v) in c.iter_mut().zip(f) {
+        let v = v - shift;
+        ensure!(
+            (0..PAD as i64).contains(&v),
+            "{}:{ln}: vertex {} out of range",
+            path.display(),
+            v + shift
+        );
+        *slot = v as u32;
+    }
+    Ok(c)
+}
+
 /// Reads a TetGen/Triangle `.ele` file and returns its cells as 0-based indices.
 ///
-/// Format (TetGen `.ele`, Triangle `.ele`): first non-comment line
+/// FORMAT (TetGen `.ele`, Triangle `.ele`, delmesh's `.ele`): first non-comment line
 /// `<ncells> <nodes per cell> <nattr>`, then `<idx> v1 v2 ... [attrs]`. The vertex
 /// numbers follow the numbering of the `.node` file the mesh refers to, so
 /// `node_first_index` (0 or 1) is subtracted. Only the first `arity` vertices are
 /// used (corner nodes of second-order elements come first).
 pub fn read_ele(path: &Path, arity: usize, node_first_index: i64) -> Result<CellSet> {
-    let text = fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let mut lines = data_lines(&text);
+    let bytes = fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+    let mut lines = int_lines(&bytes, path);
     let (hl, header) = lines
         .next()
-        .with_context(|| format!("{}: empty", path.display()))?;
-    let n: usize = parse_field(header[0], hl, path)?;
-    let per: usize = match header.get(1) {
-        Some(f) => parse_field(f, hl, path)?,
-        None => arity,
-    };
+        .with_context(|| format!("{}: empty", path.display()))??;
+    let n = usize::try_from(header[0])
+        .with_context(|| format!("{}:{hl}: negative cell count", path.display()))?;
+    let per = header.get(1).copied().unwrap_or(arity as i64);
     ensure!(
-        per >= arity,
+        per >= arity as i64,
         "{}: {per} nodes per cell, need {arity}",
         path.display()
     );
     let mut cells = Vec::with_capacity(n);
-    for (ln, fields) in lines.take(n) {
-        ensure!(
-            fields.len() > arity,
-            "{}:{ln}: too few fields",
-            path.display()
-        );
-        let mut c = [PAD; 4];
-        for k in 0..arity {
-            let v: i64 = parse_field(fields[1 + k], ln, path)?;
-            let v = v - node_first_index;
-            ensure!(
-                v >= 0 && v < PAD as i64,
-                "{}:{ln}: vertex out of range",
-                path.display()
-            );
-            c[k] = v as u32;
-        }
-        cells.push(c);
+    for line in lines.take(n) {
+        let (ln, f) = line?;
+        ensure!(f.len() > arity, "{}:{ln}: too few fields", path.display());
+        cells.push(to_cell(&f[1..=arity], node_first_index, path, ln)?);
     }
     ensure!(
         cells.len() == n,
@@ -347,14 +399,33 @@ pub struct CellDiff {
     pub only_a: usize,
     /// Cells present only in the second set.
     pub only_b: usize,
-    /// A few differing cells, prefixed `-` (first set) or `+` (second set).
-    pub examples: Vec<String>,
+    /// The first few differing cells in sorted order, each with `true` when it is in
+    /// the first set (and missing from the second).
+    pub examples: Vec<(bool, Vec<u32>)>,
 }
 
 impl CellDiff {
     /// True when the two sets are identical.
     pub fn is_empty(&self) -> bool {
         self.only_a == 0 && self.only_b == 0
+    }
+
+    /// One line naming the sets `a` and `b`: the counts and the first differing cell
+    /// tuple, e.g. `3 cells only in delmesh, 3 only in CGAL; first difference: [0, 4,
+    /// 7, 9] is in delmesh, not in CGAL`.
+    pub fn describe(&self, a: &str, b: &str) -> String {
+        if self.is_empty() {
+            return "identical".into();
+        }
+        let mut s = format!(
+            "{} cells only in {a}, {} only in {b}",
+            self.only_a, self.only_b
+        );
+        if let Some((in_a, cell)) = self.examples.first() {
+            let (has, lacks) = if *in_a { (a, b) } else { (b, a) };
+            s += &format!("; first difference: {cell:?} is in {has}, not in {lacks}");
+        }
+        s
     }
 }
 
@@ -365,9 +436,9 @@ pub fn compare(a: &CellSet, b: &CellSet) -> Result<CellDiff> {
     }
     let mut d = CellDiff::default();
     let (mut i, mut j) = (0, 0);
-    let note = |d: &mut CellDiff, sign: char, c: &[u32]| {
+    let note = |d: &mut CellDiff, in_a: bool, c: &[u32]| {
         if d.examples.len() < 8 {
-            d.examples.push(format!("{sign} {c:?}"));
+            d.examples.push((in_a, c.to_vec()));
         }
     };
     while i < a.cells.len() || j < b.cells.len() {
@@ -378,17 +449,17 @@ pub fn compare(a: &CellSet, b: &CellSet) -> Result<CellDiff> {
             }
             (Some(x), Some(y)) if x < y => {
                 d.only_a += 1;
-                note(&mut d, '-', &x[..a.arity]);
+                note(&mut d, true, &x[..a.arity]);
                 i += 1;
             }
             (Some(x), None) => {
                 d.only_a += 1;
-                note(&mut d, '-', &x[..a.arity]);
+                note(&mut d, true, &x[..a.arity]);
                 i += 1;
             }
             (_, Some(y)) => {
                 d.only_b += 1;
-                note(&mut d, '+', &y[..b.arity]);
+                note(&mut d, false, &y[..b.arity]);
                 j += 1;
             }
             (None, None) => unreachable!(),
@@ -401,32 +472,162 @@ pub fn compare(a: &CellSet, b: &CellSet) -> Result<CellDiff> {
 /// number of cells whose measure is exactly zero. A valid triangulation of a point
 /// set covers its convex hull, so the sum equals the hull's measure.
 pub fn measure_sum(node: &NodeFile, cells: &CellSet) -> (f64, usize) {
+    let fact = if cells.arity == 3 { 2.0 } else { 6.0 };
     let mut sum = 0.0;
     let mut flat = 0;
     for c in cells.iter() {
-        let p0 = node.point(c[0] as usize);
-        let d = |v: u32| -> [f64; 3] {
-            let mut r = [0.0; 3];
-            for (k, (a, b)) in node.point(v as usize).iter().zip(p0).enumerate() {
-                r[k] = a - b;
-            }
-            r
-        };
-        let m = if cells.arity == 3 {
-            let (a, b) = (d(c[1]), d(c[2]));
-            (a[0] * b[1] - a[1] * b[0]) / 2.0
-        } else {
-            let (a, b, e) = (d(c[1]), d(c[2]), d(c[3]));
-            (a[0] * (b[1] * e[2] - b[2] * e[1]) - a[1] * (b[0] * e[2] - b[2] * e[0])
-                + a[2] * (b[0] * e[1] - b[1] * e[0]))
-                / 6.0
-        };
+        let m = cell_det(node, c).abs() / fact;
         if m == 0.0 {
             flat += 1;
         }
-        sum += m.abs();
+        sum += m;
     }
     (sum, flat)
+}
+
+/// Largest coordinate magnitude for which [`total_measure`] works in exact integer
+/// arithmetic: differences stay below 2^25, a 3x3 determinant below 2^78, and a sum
+/// over 2^32 cells below 2^110, all inside `i128`.
+const EXACT_COORD_LIMIT: f64 = (1u64 << 24) as f64;
+
+/// The total measure (area/volume) of a set of cells.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Total {
+    /// Integer coordinates: `dim!` times the total measure, exactly (a sum of absolute
+    /// determinants).
+    Exact { scaled: i128, dim: usize },
+    /// Otherwise: floating point, compensated (Neumaier) summation.
+    Approx(f64),
+}
+
+/// Relative tolerance of [`Total::agrees`] when a side is not exact.
+pub const MEASURE_RTOL: f64 = 1e-12;
+
+impl Total {
+    /// The measure as a float.
+    pub fn value(&self) -> f64 {
+        match *self {
+            Total::Exact { scaled, dim } => scaled as f64 / if dim == 3 { 6.0 } else { 2.0 },
+            Total::Approx(v) => v,
+        }
+    }
+
+    /// Equal exactly (both exact) or within [`MEASURE_RTOL`] relative.
+    pub fn agrees(&self, other: &Total) -> bool {
+        match (self, other) {
+            (Total::Exact { scaled: a, dim: da }, Total::Exact { scaled: b, dim: db }) => {
+                a == b && da == db
+            }
+            _ => {
+                let (a, b) = (self.value(), other.value());
+                (a - b).abs() <= MEASURE_RTOL * a.abs().max(b.abs())
+            }
+        }
+    }
+
+    /// The exact total of the box [0, side]^dim (a grid's hull).
+    pub fn of_cube(side: u64, dim: usize) -> Total {
+        let fact = if dim == 3 { 6 } else { 2 };
+        Total::Exact {
+            scaled: i128::from(side).pow(dim as u32) * fact,
+            dim,
+        }
+    }
+}
+
+impl std::fmt::Display for Total {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Total::Exact { scaled, dim } => {
+                let fact = if dim == 3 { 6 } else { 2 };
+                if scaled % fact == 0 {
+                    write!(f, "{} (exact)", scaled / fact)
+                } else {
+                    write!(f, "{scaled}/{fact} (exact)")
+                }
+            }
+            Total::Approx(v) => write!(f, "{v:.17e}"),
+        }
+    }
+}
+
+/// Total measure of `cells`, and the number of cells of measure exactly zero.
+///
+/// Exact when every coordinate is an integer of magnitude at most 2^24 (grids):
+/// determinants in `i128`. Otherwise the same sum in floating point with compensated
+/// summation; each determinant is then rounded (a flat cell may show a tiny nonzero
+/// measure), so compare with [`Total::agrees`].
+pub fn total_measure(node: &NodeFile, cells: &CellSet) -> (Total, usize) {
+    let integral = node
+        .coords
+        .iter()
+        .all(|&x| x.fract() == 0.0 && x.abs() <= EXACT_COORD_LIMIT);
+    let dim = node.dim;
+    let mut flat = 0;
+    if integral {
+        let mut scaled: i128 = 0;
+        for c in cells.iter() {
+            let p0 = node.point(c[0] as usize);
+            let d = |v: u32| -> [i128; 3] {
+                let mut r = [0; 3];
+                for (k, (a, b)) in node.point(v as usize).iter().zip(p0).enumerate() {
+                    r[k] = (*a as i64 - *b as i64) as i128;
+                }
+                r
+            };
+            let det = if cells.arity == 3 {
+                let (a, b) = (d(c[1]), d(c[2]));
+                a[0] * b[1] - a[1] * b[0]
+            } else {
+                let (a, b, e) = (d(c[1]), d(c[2]), d(c[3]));
+                a[0] * (b[1] * e[2] - b[2] * e[1]) - a[1] * (b[0] * e[2] - b[2] * e[0])
+                    + a[2] * (b[0] * e[1] - b[1] * e[0])
+            };
+            if det == 0 {
+                flat += 1;
+            }
+            scaled += det.abs();
+        }
+        return (Total::Exact { scaled, dim }, flat);
+    }
+    // Neumaier's variant of Kahan summation.
+    let (mut sum, mut comp) = (0.0f64, 0.0f64);
+    let fact = if cells.arity == 3 { 2.0 } else { 6.0 };
+    for c in cells.iter() {
+        let m = cell_det(node, c).abs() / fact;
+        if m == 0.0 {
+            flat += 1;
+        }
+        let t = sum + m;
+        comp += if sum.abs() >= m {
+            (sum - t) + m
+        } else {
+            (m - t) + sum
+        };
+        sum = t;
+    }
+    (Total::Approx(sum + comp), flat)
+}
+
+/// The determinant of cell `c`'s edge vectors from its first vertex, in floating point
+/// (`dim!` times its signed measure).
+fn cell_det(node: &NodeFile, c: &[u32]) -> f64 {
+    let p0 = node.point(c[0] as usize);
+    let d = |v: u32| -> [f64; 3] {
+        let mut r = [0.0; 3];
+        for (k, (a, b)) in node.point(v as usize).iter().zip(p0).enumerate() {
+            r[k] = a - b;
+        }
+        r
+    };
+    if c.len() == 3 {
+        let (a, b) = (d(c[1]), d(c[2]));
+        a[0] * b[1] - a[1] * b[0]
+    } else {
+        let (a, b, e) = (d(c[1]), d(c[2]), d(c[3]));
+        a[0] * (b[1] * e[2] - b[2] * e[1]) - a[1] * (b[0] * e[2] - b[2] * e[0])
+            + a[2] * (b[0] * e[1] - b[1] * e[0])
+    }
 }
 
 #[cfg(test)]
@@ -458,6 +659,86 @@ mod tests {
         fs::write(dir.join("b.ele"), "# c\n1 3 0\n 1  3 1 2 # tri\n").unwrap();
         assert_eq!(read_ele(&dir.join("b.ele"), 3, 1).unwrap(), cells);
         fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn integer_fields() {
+        let mut v = Vec::new();
+        assert!(int_fields(b" 1\t-2,+3  # 4 5", &mut v).is_ok());
+        assert_eq!(v, [1, -2, 3]);
+        assert!(int_fields(b"   # only a comment", &mut v).is_ok());
+        assert!(v.is_empty());
+        assert_eq!(int_fields(b"1 2.5 3", &mut v), Err("2.5".to_string()));
+        assert_eq!(int_fields(b"1 - 3", &mut v), Err("-".to_string()));
+        assert!(int_fields(b"12345678901234567890", &mut v).is_err());
+    }
+
+    #[test]
+    fn ele_files_are_checked() {
+        let dir = std::env::temp_dir().join(format!("xtask-ele-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("a.ele");
+        // 1-based, with an attribute column and CRLF line ends.
+        fs::write(&p, "2 4 1\r\n1 4 3 2 1 7\r\n2 2 3 4 5 7\r\n").unwrap();
+        let cells = read_ele(&p, 4, 1).unwrap();
+        let got: Vec<&[u32]> = cells.iter().collect();
+        assert_eq!(got, [&[0, 1, 2, 3][..], &[1, 2, 3, 4][..]]);
+        // Vertex 0 in a 1-based mesh is out of range.
+        fs::write(&p, "1 4 0\n1 0 1 2 3\n").unwrap();
+        assert!(read_ele(&p, 4, 1).is_err());
+        // Fewer cells than the header says.
+        fs::write(&p, "2 3 0\n0 0 1 2\n").unwrap();
+        let err = read_ele(&p, 3, 0).unwrap_err().to_string();
+        assert!(err.contains("header says 2 cells, found 1"), "{err}");
+        fs::write(&p, "1 3 0\n0 0 x 2\n").unwrap();
+        let err = read_ele(&p, 3, 0).unwrap_err().to_string();
+        assert!(err.contains(":2: bad integer `x`"), "{err}");
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn describe_names_first_difference() {
+        let a = CellSet::new(3, vec![[0, 1, 2, 0], [1, 2, 3, 0]]);
+        let b = CellSet::new(3, vec![[0, 1, 3, 0], [1, 2, 3, 0]]);
+        let d = compare(&a, &b).unwrap();
+        assert_eq!(
+            d.describe("delmesh", "CGAL"),
+            "1 cells only in delmesh, 1 only in CGAL; first difference: [0, 1, 2] is in \
+             delmesh, not in CGAL"
+        );
+        let d = compare(&b, &a).unwrap();
+        assert!(d
+            .describe("delmesh", "CGAL")
+            .ends_with("[0, 1, 2] is in CGAL, not in delmesh"));
+        assert_eq!(compare(&a, &a).unwrap().describe("x", "y"), "identical");
+    }
+
+    #[test]
+    fn totals_exact_and_approximate() {
+        let mut node = NodeFile {
+            dim: 3,
+            first_index: 0,
+            coords: vec![
+                0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 0.0,
+            ],
+            nattr: 0,
+            attrs: vec![],
+        };
+        // The corner tet (volume 1/6) and a flat one (4 points in z = 0).
+        let cells = CellSet::new(4, vec![[0, 1, 2, 3], [0, 1, 2, 4]]);
+        let (t, flat) = total_measure(&node, &cells);
+        assert_eq!(t, Total::Exact { scaled: 1, dim: 3 });
+        assert_eq!(flat, 1);
+        assert_eq!(t.to_string(), "1/6 (exact)");
+        assert!(t.agrees(&Total::Approx(1.0 / 6.0)));
+        assert!(!t.agrees(&Total::Exact { scaled: 2, dim: 3 }));
+        assert_eq!(Total::of_cube(2, 3).to_string(), "8 (exact)");
+        // Non-integer coordinates: floating point, compared with a relative tolerance.
+        node.coords[3] = 0.5;
+        let (t, _) = total_measure(&node, &cells);
+        assert!(matches!(t, Total::Approx(_)));
+        assert!(t.agrees(&Total::Approx(1.0 / 12.0 * (1.0 + 1e-13))));
+        assert!(!t.agrees(&Total::Approx(1.0 / 12.0 * (1.0 + 1e-11))));
     }
 
     #[test]

@@ -1,22 +1,31 @@
 //! `cargo xtask`: project automation for delmesh.
 //!
 //! Commands (run `cargo xtask help`):
-//! - `ref-check [CASE...]`: self-test of the reference side. Installs TetGen and
-//!   CGAL if needed, builds the CGAL driver, generates cases into
-//!   `target/xtask/cases/`, runs CGAL and (3D) TetGen on them, prints a Markdown
-//!   table and checks that the tools agree where the Delaunay triangulation is unique.
+//! - `validate [--quick] [--only NAME]... [--report FILE.md]`: builds delmesh (release)
+//!   and the CGAL driver, runs delmesh, CGAL and (3D) TetGen on every case of
+//!   `cases::FAMILIES` and checks that delmesh agrees with them (exactly where the
+//!   Delaunay triangulation is unique); prints a Markdown table with timings and peak
+//!   memory. Exits non-zero when a check fails. `--quick` is the CI variant.
+//! - `bench [--report FILE.md]`: the README's timing table (10^6 points in 3D and 2D,
+//!   a 100^3 grid), median of 3 runs, with the command that produced it.
+//! - `ref-check [CASE...]`: self-test of the reference side alone (CGAL vs TetGen).
 //! - `ref-bench [--repeat N] [CASE...]`: timing and peak memory of the reference
-//!   tools (median of N runs): the numbers delmesh has to beat.
+//!   tools alone.
 //! - `gen [--out DIR] CASE...`: just write the cases' `.node` files.
-//! - `cases`: list the case catalog.
+//! - `cases`: list the case families.
 //!
-//! Every command works from a table of cases (`cases::CATALOG` entries picked by
-//! name), so a `validate` command is another table plus a loop like `ref_check`'s.
+//! Where external output is parsed: `reference` (CGAL driver's stdout, TetGen's
+//! stdout and files, GNU time's report), `delmesh` (delmesh's stderr), `formats`
+//! (`.node`, `.ele`, `.cells` files); each place is marked "FORMAT:".
 //! Arguments are parsed by hand to keep the dependencies at `anyhow` alone.
 
 mod cases;
+mod delmesh;
+mod exact;
 mod formats;
 mod reference;
+mod report;
+mod validate;
 
 use std::path::{Path, PathBuf};
 
@@ -24,11 +33,20 @@ use anyhow::{bail, Context, Result};
 
 use cases::Case;
 use reference::RefRun;
+use report::{load_average, mb, secs};
 
 const HELP: &str = "\
 usage: cargo xtask <command> [args]
 
 commands:
+  validate [--quick] [--only NAME]... [--report FILE.md]
+                                  build delmesh and run it, CGAL and TetGen (3D) on every
+                                  case (`--quick`: the small sizes, one run per tool; else
+                                  all sizes, median of 3 runs), check that delmesh agrees,
+                                  print a Markdown table (also written to FILE.md); NAME is
+                                  a family (uniform3d) or a case (uniform3d-50k)
+  bench [--report FILE.md]        README timing table: uniform3d-1m, uniform2d-1m,
+                                  grid3d-100, median of 3 runs
   ref-check [CASE...]             run CGAL and TetGen on CASEs (default: uniform3d-100k,
                                   uniform2d-100k, grid3d-20, dups3d-10k), print a table,
                                   check that they agree where Delaunay is unique
@@ -37,8 +55,10 @@ commands:
                                   tools (default N=3; default cases: uniform3d-100k,
                                   uniform3d-1m, uniform2d-100k, uniform2d-1m, grid3d-100)
   gen [--out DIR] CASE...         write the cases' .node files (default DIR target/xtask/cases)
-  cases                           list the case catalog
+  cases                           list the case families and their sizes
   help                            this text
+
+A CASE is <family>-<size>, e.g. uniform3d-100k, grid3d-20 (see `cargo xtask cases`).
 ";
 
 /// Cases of `ref-check`: one line per case.
@@ -58,13 +78,13 @@ const REF_BENCH: &[&str] = &[
 ];
 
 /// Paths every command uses.
-struct Ctx {
+pub struct Ctx {
     /// Workspace root.
-    root: PathBuf,
+    pub root: PathBuf,
     /// `target/xtask/cases`: generated `.node` files.
-    cases: PathBuf,
+    pub cases: PathBuf,
     /// `target/xtask/runs`: tool outputs, one folder per case.
-    runs: PathBuf,
+    pub runs: PathBuf,
 }
 
 impl Ctx {
@@ -96,7 +116,19 @@ fn run() -> Result<()> {
         return Ok(());
     };
     let ctx = Ctx::new()?;
+    let command = command_line(&args);
     match cmd.as_str() {
+        "validate" => {
+            let opts = parse_validate_args(rest, command)?;
+            validate::validate(&ctx, &opts)
+        }
+        "bench" => {
+            let (report, rest) = take_option(rest, "--report")?;
+            if let Some(a) = rest.first() {
+                bail!("bench: unknown argument `{a}`\n{HELP}");
+            }
+            validate::bench(&ctx, report.as_deref().map(Path::new), &command)
+        }
         "ref-check" => ref_check(&ctx, &case_list(rest, REF_CHECK)?),
         "ref-bench" => {
             let (repeat, rest) = take_option(rest, "--repeat")?;
@@ -116,13 +148,25 @@ fn run() -> Result<()> {
             Ok(())
         }
         "cases" => {
-            for c in cases::CATALOG {
+            for f in cases::FAMILIES {
+                let labels = |sizes: &[usize]| -> String {
+                    let l: Vec<String> = sizes
+                        .iter()
+                        .map(|&s| {
+                            let name = f.case(s).name;
+                            name[f.name.len() + 1..].to_string()
+                        })
+                        .collect();
+                    l.join(",")
+                };
                 println!(
-                    "{:16} {}D {:>9} points  {:?}",
-                    c.name,
-                    c.gen.dim(),
-                    c.gen.len(),
-                    c.gen
+                    "{:10} {}D {:10} quick: {:10} full: {:16} {:?}",
+                    f.name,
+                    f.gen.dim(),
+                    f.kind.label(),
+                    labels(f.quick),
+                    labels(f.full),
+                    f.gen
                 );
             }
             Ok(())
@@ -154,6 +198,54 @@ fn take_option(args: &[String], name: &str) -> Result<(Option<String>, Vec<Strin
         }
     }
     Ok((value, rest))
+}
+
+/// Arguments of `validate`: `--quick`, `--only NAME` (repeatable), `--report FILE`
+/// (`--opt=VALUE` works too).
+fn parse_validate_args(args: &[String], command: String) -> Result<validate::ValidateOptions> {
+    let mut opts = validate::ValidateOptions {
+        quick: false,
+        only: Vec::new(),
+        report: None,
+        command,
+    };
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        let (key, inline) = match a.split_once('=') {
+            Some((k, v)) => (k, Some(v.to_string())),
+            None => (a.as_str(), None),
+        };
+        let mut value = || {
+            inline
+                .clone()
+                .or_else(|| it.next().cloned())
+                .with_context(|| format!("{key} needs a value"))
+        };
+        match key {
+            "--quick" if inline.is_none() => opts.quick = true,
+            "--only" => opts.only.push(value()?),
+            "--report" => opts.report = Some(PathBuf::from(value()?)),
+            _ => bail!("validate: unknown argument `{a}`\n{HELP}"),
+        }
+    }
+    Ok(opts)
+}
+
+/// `cargo xtask <args>`, quoted for a POSIX shell where needed: the exact command
+/// printed with a report.
+fn command_line(args: &[String]) -> String {
+    let mut s = String::from("cargo xtask");
+    for a in args {
+        let plain = !a.is_empty()
+            && a.chars()
+                .all(|c| c.is_ascii_alphanumeric() || "-_./=,:+@%".contains(c));
+        if plain {
+            s = s + " " + a;
+        } else {
+            s = s + " '" + &a.replace('\'', "'\\''") + "'";
+        }
+    }
+    s
 }
 
 /// The named cases, or `default` when none are named.
@@ -208,52 +300,12 @@ impl Tool {
 
 /// How to read the timing columns.
 const TIMING_NOTE: &str = "build s: the tool's own timing of the construction only (CGAL: wall \
-clock; TetGen: clock(), i.e. CPU time). cpu s: CPU time of the construction. peak MB: CGAL: \
-VmHWM right after construction (includes the parsed input); TetGen: GNU time's maximum RSS of \
-the whole run.";
-
-fn secs(s: Option<f64>) -> String {
-    s.map_or("-".into(), |s| format!("{s:.3}"))
-}
-
-fn mb(kb: Option<u64>) -> String {
-    kb.map_or("-".into(), |k| format!("{:.1}", k as f64 / 1024.0))
-}
+clock; TetGen: clock(), i.e. CPU time). cpu s: CPU time of the construction. peak MB: GNU \
+time's maximum RSS of the whole run (read, build, write).";
 
 /// Prints a Markdown table with aligned columns.
 fn print_table(header: &[&str], rows: &[Vec<String>]) {
-    let mut width: Vec<usize> = header.iter().map(|h| h.len()).collect();
-    for r in rows {
-        for (w, c) in width.iter_mut().zip(r) {
-            *w = (*w).max(c.len());
-        }
-    }
-    let line = |cells: Vec<&str>| {
-        let padded: Vec<String> = cells
-            .iter()
-            .zip(&width)
-            .map(|(c, w)| format!("{c:w$}"))
-            .collect();
-        println!("| {} |", padded.join(" | "));
-    };
-    line(header.to_vec());
-    println!(
-        "|{}|",
-        width
-            .iter()
-            .map(|w| "-".repeat(w + 2))
-            .collect::<Vec<_>>()
-            .join("|")
-    );
-    for r in rows {
-        line(r.iter().map(String::as_str).collect());
-    }
-}
-
-fn load_average() -> String {
-    std::fs::read_to_string("/proc/loadavg")
-        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
-        .unwrap_or_else(|_| "?".into())
+    print!("{}", report::markdown_table(header, rows));
 }
 
 /// Checks one tool's cells for sanity: no flat cells, and the measures sum to the
@@ -281,7 +333,7 @@ fn ref_check(ctx: &Ctx, list: &[Case]) -> Result<()> {
         let node_path = case.write(&ctx.cases)?;
         let node = formats::read_node(&node_path)?;
         let dups = formats::duplicate_canonical_map(&node);
-        let workdir = ctx.runs.join(case.name);
+        let workdir = ctx.runs.join(&case.name);
         let mut results: Vec<(Tool, formats::CellSet)> = Vec::new();
         for &tool in Tool::for_dim(node.dim) {
             eprintln!("xtask: {} on {}", tool.name(), case.name);
@@ -315,7 +367,7 @@ fn ref_check(ctx: &Ctx, list: &[Case]) -> Result<()> {
                 // tools break ties differently, so a difference is allowed there.
                 (
                     format!("{} vs {} cells differ", diff.only_a, diff.only_b),
-                    !case.gen.unique_delaunay(),
+                    case.kind == cases::Kind::Degenerate,
                 )
             };
             let note = if dups.is_some() {
@@ -335,11 +387,11 @@ fn ref_check(ctx: &Ctx, list: &[Case]) -> Result<()> {
             rows.push(row);
             if !ok {
                 failures.push(format!(
-                    "{}: {} and {} disagree: {what}{note}; e.g. {:?}",
+                    "{}: {} and {} disagree{note}: {}",
                     case.name,
                     ta.name(),
                     tb.name(),
-                    diff.examples
+                    diff.describe(ta.name(), tb.name())
                 ));
             }
         }
@@ -378,7 +430,7 @@ fn ref_bench(ctx: &Ctx, list: &[Case], repeat: usize) -> Result<()> {
     let mut rows = Vec::new();
     for case in list {
         let node_path = case.write(&ctx.cases)?;
-        let workdir = ctx.runs.join(case.name);
+        let workdir = ctx.runs.join(&case.name);
         for &tool in Tool::for_dim(case.gen.dim()) {
             let (mut wall, mut cpu, mut rss) = (Vec::new(), Vec::new(), Vec::new());
             let mut cells = 0;
@@ -436,4 +488,62 @@ fn ref_bench(ctx: &Ctx, list: &[Case], repeat: usize) -> Result<()> {
         load_average()
     );
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn command_line_is_quoted_for_the_shell() {
+        let args: Vec<String> = ["validate", "--only", "grid3d", "--report", "my report.md"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        assert_eq!(
+            command_line(&args),
+            "cargo xtask validate --only grid3d --report 'my report.md'"
+        );
+        assert_eq!(command_line(&["it's".into()]), "cargo xtask 'it'\\''s'");
+    }
+
+    #[test]
+    fn validate_arguments() {
+        let args = |a: &[&str]| -> Vec<String> { a.iter().map(|s| s.to_string()).collect() };
+        let o = parse_validate_args(
+            &args(&[
+                "--quick",
+                "--only",
+                "grid3d",
+                "--only=dups2d",
+                "--report",
+                "r.md",
+            ]),
+            "c".into(),
+        )
+        .unwrap();
+        assert!(o.quick);
+        assert_eq!(o.only, ["grid3d", "dups2d"]);
+        assert_eq!(o.report, Some(PathBuf::from("r.md")));
+        let o = parse_validate_args(&[], "c".into()).unwrap();
+        assert!(!o.quick && o.only.is_empty() && o.report.is_none());
+        for bad in [&["--only"][..], &["--fast"], &["--quick=1"], &["grid3d"]] {
+            assert!(
+                parse_validate_args(&args(bad), "c".into()).is_err(),
+                "{bad:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn options_are_split_out() {
+        let args: Vec<String> = ["a", "--report=x.md", "b"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        let (v, rest) = take_option(&args, "--report").unwrap();
+        assert_eq!(v.as_deref(), Some("x.md"));
+        assert_eq!(rest, ["a", "b"]);
+        assert!(take_option(&["--report".to_string()], "--report").is_err());
+    }
 }

@@ -3,8 +3,8 @@
 //! (see `formats`) plus the build time and peak memory each tool reports.
 //!
 //! External output formats parsed here (each marked "FORMAT:" below):
-//! - the CGAL driver's stdout (`cgal_build_seconds`, `cgal_cells`, `cgal_peak_rss_kb`
-//!   lines), defined by `xtask/cgal/delaunay.cpp`;
+//! - the CGAL driver's stdout (`cgal_build_seconds`, `cgal_build_cpu_seconds`,
+//!   `cgal_cells`, `cgal_peak_rss_kb` lines), defined by `xtask/cgal/delaunay.cpp`;
 //! - TetGen 1.5's terminal output (`Delaunay seconds:` line, duplicate warnings);
 //! - TetGen's `.ele` and `.node` output files;
 //! - GNU time's `-v` report (`Maximum resident set size (kbytes):`).
@@ -22,8 +22,8 @@ use crate::formats::{self, CellSet};
 const PACKAGES: &[&str] = &["tetgen", "libcgal-dev", "time", "g++"];
 /// A header that exists exactly when CGAL is installed.
 const CGAL_HEADER: &str = "/usr/include/CGAL/Delaunay_triangulation_3.h";
-/// GNU time, used for TetGen's peak memory.
-const GNU_TIME: &str = "/usr/bin/time";
+/// GNU time, used for every tool's peak memory (whole run: read, build, write).
+pub const GNU_TIME: &str = "/usr/bin/time";
 
 /// What a reference tool reports for one run.
 #[derive(Debug, Clone)]
@@ -38,7 +38,9 @@ pub struct RefRun {
     pub build_cpu_seconds: Option<f64>,
     /// Number of finite cells.
     pub cells: usize,
-    /// Peak resident memory in KiB, when it could be measured.
+    /// Peak resident memory of the whole run (reading, construction, writing) in KiB,
+    /// from GNU time, when it could be measured. (Without GNU time the CGAL driver's
+    /// own figure is used: its peak right after construction.)
     pub peak_rss_kb: Option<u64>,
     /// The cells in `.cells` format.
     pub cells_file: PathBuf,
@@ -146,20 +148,56 @@ pub fn build_cgal_driver(root: &Path) -> Result<PathBuf> {
 
 /// FORMAT: finds `<key> <value>` (whitespace-separated, first match) in a tool's
 /// stdout.
-fn find_value<'a>(text: &'a str, key: &str) -> Option<&'a str> {
+pub fn find_value<'a>(text: &'a str, key: &str) -> Option<&'a str> {
     text.lines()
         .find_map(|l| l.trim().strip_prefix(key))
         .map(str::trim)
 }
 
-/// Runs the CGAL driver on `node`, writing `out_cells`.
-pub fn run_cgal(driver: &Path, node: &Path, out_cells: &Path) -> Result<RefRun> {
-    let out = Command::new(driver)
-        .arg(node)
-        .arg(out_cells)
-        .stderr(Stdio::inherit())
+/// Runs `program args` (stdout captured, stderr inherited unless `capture_stderr`),
+/// under GNU time `-v -o time_file` when GNU time is installed, and returns the output
+/// and the peak RSS GNU time measured. The exit status is the program's (GNU time
+/// passes it through).
+pub fn output_timed(
+    program: &Path,
+    args: &[&std::ffi::OsStr],
+    time_file: &Path,
+    capture_stderr: bool,
+) -> Result<(std::process::Output, Option<u64>)> {
+    let timed = Path::new(GNU_TIME).is_file();
+    let mut cmd = if timed {
+        let _ = fs::remove_file(time_file);
+        let mut c = Command::new(GNU_TIME);
+        c.arg("-v").arg("-o").arg(time_file).arg(program);
+        c
+    } else {
+        Command::new(program)
+    };
+    cmd.args(args);
+    if !capture_stderr {
+        cmd.stderr(Stdio::inherit());
+    }
+    let out = cmd
         .output()
-        .with_context(|| format!("running {}", driver.display()))?;
+        .with_context(|| format!("running {}", program.display()))?;
+    let rss = if timed {
+        parse_gnu_time_rss(time_file)
+    } else {
+        None
+    };
+    Ok((out, rss))
+}
+
+/// Runs the CGAL driver on `node`, writing `out_cells` (and `<out_cells>.time`, GNU
+/// time's report).
+pub fn run_cgal(driver: &Path, node: &Path, out_cells: &Path) -> Result<RefRun> {
+    let time_file = out_cells.with_extension("time");
+    let (out, rss) = output_timed(
+        driver,
+        &[node.as_os_str(), out_cells.as_os_str()],
+        &time_file,
+        false,
+    )?;
     ensure!(
         out.status.success(),
         "{} {} failed: {}",
@@ -172,17 +210,18 @@ pub fn run_cgal(driver: &Path, node: &Path, out_cells: &Path) -> Result<RefRun> 
     let get = |key: &str| {
         find_value(&text, key).with_context(|| format!("CGAL driver printed no `{key}`:\n{text}"))
     };
+    let own_rss: u64 = get("cgal_peak_rss_kb")?.parse()?;
     Ok(RefRun {
         build_seconds: get("cgal_build_seconds")?.parse()?,
         build_cpu_seconds: Some(get("cgal_build_cpu_seconds")?.parse()?),
         cells: get("cgal_cells")?.parse()?,
-        peak_rss_kb: Some(get("cgal_peak_rss_kb")?.parse()?),
+        peak_rss_kb: Some(rss.unwrap_or(own_rss)),
         cells_file: out_cells.to_path_buf(),
     })
 }
 
 /// FORMAT: GNU time `-v` writes `\tMaximum resident set size (kbytes): N`.
-fn parse_gnu_time_rss(path: &Path) -> Option<u64> {
+pub fn parse_gnu_time_rss(path: &Path) -> Option<u64> {
     let text = fs::read_to_string(path).ok()?;
     find_value(&text, "Maximum resident set size (kbytes):")?
         .parse()
