@@ -23,12 +23,8 @@ pub trait Dim: Copy + Clone + Debug + Send + Sync + 'static {
     /// positive-volume tetrahedron.
     fn orient(p: &[Self::Point]) -> Sign;
 
-    /// Whether `p[C]` lies inside the circumsphere of the positively oriented cell `p[0..C]`
-    /// (exact; zero when co-spherical).
-    fn insphere(p: &[Self::Point]) -> Sign;
-
-    /// [`Dim::insphere`] of the finite cell `cell` (vertex ids into `points`) and `q`, reading
-    /// the points straight into registers (the hot path of cavity search).
+    /// Whether `q` is inside the circumsphere of the finite cell `cell` (vertex ids into
+    /// `points`), exact and symbolically perturbed (never zero): the hot path of cavity search.
     fn insphere_cell(points: &[Self::Point], cell: &[VertexId; 4], q: Self::Point) -> Sign;
 
     /// Orientation of the finite cell `cell` with its vertex `f` replaced by `q`: negative
@@ -40,13 +36,6 @@ pub trait Dim: Copy + Clone + Debug + Send + Sync + 'static {
         q: Self::Point,
     ) -> Sign;
 
-    /// Whether `p[C]` lies inside the circumsphere of the positively oriented cell `p[0..C]`,
-    /// with the symbolic perturbation ranked by the points' lexicographic order: never zero.
-    fn insphere_sos(p: &[Self::Point]) -> Sign;
-
-    /// [`Dim::insphere_sos`] for points already known to be exactly co-spherical.
-    fn insphere_tiebreak(p: &[Self::Point]) -> Sign;
-
     /// Whether the points `p` (at most `N` of them) are affinely independent.
     fn independent(p: &[Self::Point]) -> bool;
 
@@ -55,14 +44,6 @@ pub trait Dim: Copy + Clone + Debug + Send + Sync + 'static {
 
     /// Circumcentre of the cell `p[0..C]` (a floating-point construction).
     fn circumcenter(p: &[Self::Point]) -> Self::Point;
-}
-
-/// The perturbation rank of a point: its coordinates in lexicographic order, reversed so that
-/// the lexicographically smallest point is perturbed most. Ranking by geometry rather than by
-/// vertex number makes the triangulation of degenerate input independent of the input order.
-#[inline]
-fn rank<const N: usize>(p: [f64; N]) -> std::cmp::Reverse<pred::Lex<N>> {
-    std::cmp::Reverse(pred::Lex(p))
 }
 
 /// Two dimensions: triangles.
@@ -81,11 +62,6 @@ impl Dim for D2 {
     #[inline]
     fn orient(p: &[[f64; 2]]) -> Sign {
         pred::orient2d(p[0], p[1], p[2])
-    }
-
-    #[inline]
-    fn insphere(p: &[[f64; 2]]) -> Sign {
-        pred::incircle(p[0], p[1], p[2], p[3])
     }
 
     #[inline(always)]
@@ -110,17 +86,6 @@ impl Dim for D2 {
             1 => pred::orient2d(a, q, c),
             _ => pred::orient2d(a, b, q),
         }
-    }
-
-    #[inline]
-    fn insphere_sos(p: &[[f64; 2]]) -> Sign {
-        let p = [p[0], p[1], p[2], p[3]];
-        pred::incircle_sos(p, p.map(rank))
-    }
-
-    fn insphere_tiebreak(p: &[[f64; 2]]) -> Sign {
-        let p = [p[0], p[1], p[2], p[3]];
-        pred::incircle_tiebreak(p, p.map(rank))
     }
 
     fn independent(p: &[[f64; 2]]) -> bool {
@@ -160,16 +125,11 @@ impl Dim for D3 {
         pred::orient3d(p[0], p[1], p[2], p[3])
     }
 
-    #[inline]
-    fn insphere(p: &[[f64; 3]]) -> Sign {
-        pred::insphere(p[0], p[1], p[2], p[3], p[4])
-    }
-
     #[inline(always)]
     fn insphere_cell(points: &[[f64; 3]], cell: &[VertexId; 4], q: [f64; 3]) -> Sign {
         let (a, b) = (points[cell[0].index()], points[cell[1].index()]);
         let (c, d) = (points[cell[2].index()], points[cell[3].index()]);
-        pred::insphere(a, b, c, d, q)
+        pred::insphere_lex([a, b, c, d, q])
     }
 
     #[inline(always)]
@@ -182,17 +142,6 @@ impl Dim for D3 {
             2 => pred::orient3d(a, b, q, d),
             _ => pred::orient3d(a, b, c, q),
         }
-    }
-
-    #[inline]
-    fn insphere_sos(p: &[[f64; 3]]) -> Sign {
-        let p = [p[0], p[1], p[2], p[3], p[4]];
-        pred::insphere_sos(p, p.map(rank))
-    }
-
-    fn insphere_tiebreak(p: &[[f64; 3]]) -> Sign {
-        let p = [p[0], p[1], p[2], p[3], p[4]];
-        pred::insphere_tiebreak(p, p.map(rank))
     }
 
     fn independent(p: &[[f64; 3]]) -> bool {

@@ -531,17 +531,7 @@ impl<D: Dim> Triangulation<D> {
     fn in_conflict(&self, c: CellId, p: D::Point, v: VertexId) -> bool {
         let cell = &self.simplices[c.index()];
         let Some(ghost) = cell.v[..D::C].iter().position(|u| u.is_ghost()) else {
-            return match D::insphere_cell(&self.points, &cell.v, p) {
-                Sign::Zero => {
-                    let mut pts = [D::Point::default(); 5];
-                    for k in 0..D::C {
-                        pts[k] = self.points[cell.v[k].index()];
-                    }
-                    pts[D::C] = p;
-                    D::insphere_tiebreak(&pts[..=D::C]) == Sign::Positive
-                }
-                s => s == Sign::Positive,
-            };
+            return D::insphere_cell(&self.points, &cell.v, p) == Sign::Positive;
         };
         // Replace the ghost by a finite vertex of the cell, then by p: "p beyond the facet".
         let mut finite = cell.v;

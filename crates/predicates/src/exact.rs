@@ -110,6 +110,28 @@ pub fn incircle(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> Sign {
 /// Precondition: `orient3d(a, b, c, d)` is positive; otherwise the sign is reversed.
 #[inline]
 pub fn insphere(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3], e: [f64; 3]) -> Sign {
+    if let Some(s) = insphere_filter(a, b, c, d, e) {
+        return s;
+    }
+    if let Some(k) = crate::integer::lattice([
+        a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2], e[0], e[1], e[2],
+    ]) {
+        return Sign::of(-f64::from(crate::integer::insphere(k)));
+    }
+    // robust::insphere expects robust's positive orientation, which is our negative one.
+    Sign::of(-robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e)))
+}
+
+/// The semi-static filter of [`insphere`]: the sign when the floating-point determinant is
+/// certain, `None` otherwise.
+#[inline(always)]
+pub(crate) fn insphere_filter(
+    a: [f64; 3],
+    b: [f64; 3],
+    c: [f64; 3],
+    d: [f64; 3],
+    e: [f64; 3],
+) -> Option<Sign> {
     let ae = [a[0] - e[0], a[1] - e[1], a[2] - e[2]];
     let be = [b[0] - e[0], b[1] - e[1], b[2] - e[2]];
     let ce = [c[0] - e[0], c[1] - e[1], c[2] - e[2]];
@@ -135,15 +157,20 @@ pub fn insphere(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3], e: [f64; 3])
     // Shewchuk: isperrboundA = (16 + 224ε)ε, permanent ≤ 72M⁵. `det` has robust's sign.
     let m2 = m * m;
     if m > TINY && det.abs() > 1.3e-13 * (m2 * m2 * m) {
-        return Sign::of(-det);
+        return Some(Sign::of(-det));
     }
-    if let Some(k) = crate::integer::lattice([
-        a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2], e[0], e[1], e[2],
-    ]) {
-        return Sign::of(-f64::from(crate::integer::insphere(k)));
+    None
+}
+
+/// Exact [`insphere`] after its filter failed, with the lattice form of the points if they
+/// have one (for the caller to reuse).
+pub(crate) fn insphere_exact(p: &[[f64; 3]; 5]) -> (Sign, Option<[i64; 15]>) {
+    let flat: [f64; 15] = std::array::from_fn(|i| p[i / 3][i % 3]);
+    if let Some(k) = crate::integer::lattice(flat) {
+        return (Sign::of(-f64::from(crate::integer::insphere(k))), Some(k));
     }
-    // robust::insphere expects robust's positive orientation, which is our negative one.
-    Sign::of(-robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e)))
+    let s = -robust::insphere(c3(p[0]), c3(p[1]), c3(p[2]), c3(p[3]), c3(p[4]));
+    (Sign::of(s), None)
 }
 
 /// `max` without NaN handling (the inputs are finite): one instruction instead of three.

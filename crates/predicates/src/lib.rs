@@ -35,7 +35,10 @@ mod integer;
 mod sos;
 
 pub use exact::{incircle, insphere, orient2d, orient3d};
-pub use sos::{incircle_sos, incircle_tiebreak, insphere_sos, insphere_tiebreak, Lex};
+pub use sos::{
+    incircle_lex, incircle_sos, incircle_tiebreak, insphere_lex, insphere_sos, insphere_tiebreak,
+    Lex,
+};
 
 /// Smallest and largest non-zero coordinate magnitudes for which every predicate here is exact
 /// (`2^-142` and `2^201`: the exact expansions of degree-5 `insphere` neither underflow nor

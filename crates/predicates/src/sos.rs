@@ -38,7 +38,8 @@ pub fn incircle_sos<K: Ord + Copy>(p: [[f64; 2]; 4], ids: [K; 4]) -> Sign {
 ///
 /// Precondition: as [`incircle_sos`], and `incircle(p[0], …, p[3])` is zero.
 pub fn incircle_tiebreak<K: Ord + Copy>(p: [[f64; 2]; 4], ids: [K; 4]) -> Sign {
-    for slot in slots_by_decreasing_id(ids) {
+    let mut order = DecreasingIds::new(ids);
+    while let Some(slot) = order.next() {
         let coefficient = if slot == 3 {
             orient2d(p[0], p[1], p[2]).reversed()
         } else {
@@ -73,13 +74,58 @@ pub fn insphere_sos<K: Ord + Copy>(p: [[f64; 3]; 5], ids: [K; 5]) -> Sign {
 ///
 /// Precondition: as [`insphere_sos`], and `insphere(p[0], …, p[4])` is zero.
 pub fn insphere_tiebreak<K: Ord + Copy>(p: [[f64; 3]; 5], ids: [K; 5]) -> Sign {
-    for slot in slots_by_decreasing_id(ids) {
+    let flat: [f64; 15] = std::array::from_fn(|i| p[i / 3][i % 3]);
+    tiebreak3(&p, crate::integer::lattice(flat), ids)
+}
+
+/// The in-sphere test delmesh uses: exact, with the perturbation ranked by the points'
+/// lexicographic order (the lexicographically smallest point is perturbed most), so it never
+/// returns zero and degenerate input gets a triangulation that depends only on the geometry.
+///
+/// Precondition: `orient3d(p[0], p[1], p[2], p[3])` is positive.
+#[inline]
+pub fn insphere_lex(p: [[f64; 3]; 5]) -> Sign {
+    if let Some(s) = crate::exact::insphere_filter(p[0], p[1], p[2], p[3], p[4]) {
+        return s;
+    }
+    match crate::exact::insphere_exact(&p) {
+        (Sign::Zero, lattice) => tiebreak3(&p, lattice, p.map(|q| std::cmp::Reverse(Lex(q)))),
+        (s, _) => s,
+    }
+}
+
+/// The 2D counterpart of [`insphere_lex`].
+///
+/// Precondition: `orient2d(p[0], p[1], p[2])` is positive.
+#[inline]
+pub fn incircle_lex(p: [[f64; 2]; 4]) -> Sign {
+    match incircle(p[0], p[1], p[2], p[3]) {
+        Sign::Zero => incircle_tiebreak(p, p.map(|q| std::cmp::Reverse(Lex(q)))),
+        s => s,
+    }
+}
+
+/// [`insphere_tiebreak`] with the points' lattice form, if any, already computed: grid points
+/// get their coefficients in integers.
+fn tiebreak3<K: Ord + Copy>(p: &[[f64; 3]; 5], lattice: Option<[i64; 15]>, ids: [K; 5]) -> Sign {
+    let orient = |q: [usize; 4]| -> Sign {
+        match &lattice {
+            Some(k) => {
+                let sub: [i64; 12] = std::array::from_fn(|i| k[3 * q[i / 3] + i % 3]);
+                // integer::orient3d has robust's sign: ours is the opposite.
+                Sign::of(-f64::from(crate::integer::orient3d(sub)))
+            }
+            None => orient3d(p[q[0]], p[q[1]], p[q[2]], p[q[3]]),
+        }
+    };
+    let mut order = DecreasingIds::new(ids);
+    while let Some(slot) = order.next() {
         let coefficient = if slot == 4 {
-            orient3d(p[0], p[1], p[2], p[3]).reversed()
+            orient([0, 1, 2, 3]).reversed()
         } else {
-            let mut q = [p[0], p[1], p[2], p[3]];
-            q[slot] = p[4];
-            orient3d(q[0], q[1], q[2], q[3])
+            let mut q = [0, 1, 2, 3];
+            q[slot] = 4;
+            orient(q)
         };
         if coefficient != Sign::Zero {
             return coefficient;
@@ -105,22 +151,47 @@ impl<const N: usize> PartialOrd for Lex<N> {
 
 impl<const N: usize> Ord for Lex<N> {
     fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        // Coordinates are finite (callers reject NaN), so plain comparisons are a total order.
         for k in 0..N {
-            match self.0[k].total_cmp(&other.0[k]) {
-                std::cmp::Ordering::Equal => {}
-                o => return o,
+            if self.0[k] < other.0[k] {
+                return std::cmp::Ordering::Less;
+            }
+            if self.0[k] > other.0[k] {
+                return std::cmp::Ordering::Greater;
             }
         }
         std::cmp::Ordering::Equal
     }
 }
 
-/// The slots `0..N` ordered by decreasing id (a sorting network would do; N ≤ 5).
-#[inline]
-fn slots_by_decreasing_id<K: Ord + Copy, const N: usize>(ids: [K; N]) -> [usize; N] {
-    let mut slots: [usize; N] = std::array::from_fn(|i| i);
-    slots.sort_unstable_by(|&a, &b| ids[b].cmp(&ids[a]));
-    slots
+/// The slots `0..N` by decreasing id, found lazily: the loops above usually stop at the first
+/// or second slot, so sorting all of them would be wasted work.
+struct DecreasingIds<K, const N: usize> {
+    ids: [K; N],
+    used: [bool; N],
+}
+
+impl<K: Ord + Copy, const N: usize> DecreasingIds<K, N> {
+    fn new(ids: [K; N]) -> Self {
+        DecreasingIds {
+            ids,
+            used: [false; N],
+        }
+    }
+
+    #[inline]
+    fn next(&mut self) -> Option<usize> {
+        let mut best: Option<usize> = None;
+        for k in 0..N {
+            if !self.used[k] && best.is_none_or(|b| self.ids[k] > self.ids[b]) {
+                best = Some(k);
+            }
+        }
+        if let Some(b) = best {
+            self.used[b] = true;
+        }
+        best
+    }
 }
 
 #[cfg(test)]
