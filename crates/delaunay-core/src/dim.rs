@@ -71,7 +71,7 @@ impl Dim for D2 {
             points[cell[1].index()],
             points[cell[2].index()],
         );
-        pred::incircle(a, b, c, q)
+        pred::incircle_lex([a, b, c, q])
     }
 
     #[inline(always)]

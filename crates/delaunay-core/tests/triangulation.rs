@@ -413,3 +413,60 @@ fn degenerate_sets_do_not_depend_on_input_order() {
     assert_eq!(cells_by_coords(&reversed), base);
     assert_eq!(cells_by_coords(&shuffled), base);
 }
+
+#[test]
+fn degenerate_2d_sets_do_not_depend_on_input_order() {
+    fn cells_by_coords(pts: &[[f64; 2]]) -> std::collections::BTreeSet<Vec<[u64; 2]>> {
+        let t = Triangulation2::new(pts).unwrap();
+        t.validate().unwrap();
+        t.cells()
+            .map(|c| {
+                let mut v: Vec<[u64; 2]> = t
+                    .cell(c)
+                    .iter()
+                    .map(|&v| t.vertex(v).map(f64::to_bits))
+                    .collect();
+                v.sort_unstable();
+                v
+            })
+            .collect()
+    }
+    let pts = grid2(12);
+    let mut reversed = pts.clone();
+    reversed.reverse();
+    let mut shuffled = pts.clone();
+    let n = shuffled.len();
+    for i in 0..n {
+        shuffled.swap(i, (i * 7919 + 13) % n);
+    }
+    let base = cells_by_coords(&pts);
+    assert_eq!(cells_by_coords(&reversed), base);
+    assert_eq!(cells_by_coords(&shuffled), base);
+    // All squares are cut the same way: by the diagonal that avoids the lexicographically
+    // smallest corner's perturbation winning (the one CGAL picks too).
+    let circle = circle_points();
+    let mut rev = circle.clone();
+    rev.reverse();
+    assert_eq!(cells_by_coords(&circle), cells_by_coords(&rev));
+}
+
+/// Every unit square of a grid is co-circular; the lexicographic perturbation cuts all of
+/// them by the same diagonal, from (x, y + 1) to (x + 1, y), as CGAL does. (Catches a test
+/// that resolves ties without the perturbation: that one is consistent too, but different.)
+#[test]
+fn grid_squares_are_cut_by_the_perturbation_s_diagonal() {
+    let t = Triangulation2::new(&grid2(9)).unwrap();
+    for c in t.cells() {
+        let v: Vec<[f64; 2]> = t.cell(c).iter().map(|&v| t.vertex(v)).collect();
+        for i in 0..3 {
+            let (a, b) = (v[i], v[(i + 1) % 3]);
+            if (a[0] - b[0]).abs() == 1.0 && (a[1] - b[1]).abs() == 1.0 {
+                assert_eq!(
+                    a[0] - b[0],
+                    b[1] - a[1],
+                    "edge {a:?}-{b:?} is the other diagonal"
+                );
+            }
+        }
+    }
+}
