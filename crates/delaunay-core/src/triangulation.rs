@@ -621,19 +621,10 @@ impl<D: Dim> Triangulation<D> {
         }
         cavity.new_cells.clear();
         for (b, ids) in cavity.boundary.iter().zip(&cavity.local_ids) {
-            let c = self.alloc_cell(&b.vertices[..D::C]);
+            let c = self.glue_new_cell(b);
             cavity.new_cells.push(c);
-            let apex = b.apex as usize;
-            self.link(FacetRef::new(c, apex), b.outside);
-            if !self.bulk {
-                for &u in &b.vertices[..D::C] {
-                    if !u.is_ghost() {
-                        self.incident[u.index()] = c;
-                    }
-                }
-            }
             // Register this cell's side facets under their directed ridges.
-            let f = facet_of::<D>(apex);
+            let f = facet_of::<D>(b.apex as usize);
             if D::N == 2 {
                 // Boundary edge u0 → u1: the facet through u0 (opposite u1) is "starts at u0",
                 // the facet through u1 (opposite u0) is "ends at u1".
@@ -675,6 +666,22 @@ impl<D: Dim> Triangulation<D> {
         self.cavity = cavity;
     }
 
+    /// The cell for boundary facet `b` (the facet joined to the new vertex), glued to the
+    /// outside neighbour; its other neighbours are linked by the caller.
+    #[inline]
+    fn glue_new_cell(&mut self, b: &BoundaryFacet) -> CellId {
+        let c = self.alloc_cell(&b.vertices[..D::C]);
+        self.link(FacetRef::new(c, b.apex as usize), b.outside);
+        if !self.bulk {
+            for &u in &b.vertices[..D::C] {
+                if !u.is_ghost() {
+                    self.incident[u.index()] = c;
+                }
+            }
+        }
+        c
+    }
+
     /// The local number of `u` among the cavity's boundary vertices, assigned on first sight.
     #[inline]
     fn local_id(&mut self, verts: &mut Vec<VertexId>, u: VertexId) -> u32 {
@@ -702,16 +709,8 @@ impl<D: Dim> Triangulation<D> {
         let mut last = None;
         let mut last_finite = None;
         for b in &cavity.boundary {
-            let c = self.alloc_cell(&b.vertices[..D::C]);
+            let c = self.glue_new_cell(b);
             let apex = b.apex as usize;
-            self.link(FacetRef::new(c, apex), b.outside);
-            if !self.bulk {
-                for &u in &b.vertices[..D::C] {
-                    if !u.is_ghost() {
-                        self.incident[u.index()] = c;
-                    }
-                }
-            }
             for j in 0..D::C {
                 if j != apex {
                     let key = ridge_key(&b.vertices[..D::C], apex, j);

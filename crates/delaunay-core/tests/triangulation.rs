@@ -377,77 +377,50 @@ fn huge_degenerate_cavity_uses_the_hashed_linking() {
     assert_eq!(t2.num_cells(), circle_points().len());
 }
 
+/// The finite cells as sets of vertex coordinates: comparable across input orders.
+fn cells_by_coords<D: Dim>(pts: &[D::Point]) -> std::collections::BTreeSet<Vec<Vec<u64>>> {
+    let t = Triangulation::<D>::new(pts).unwrap();
+    t.validate().unwrap();
+    t.cells()
+        .map(|c| {
+            let mut v: Vec<Vec<u64>> = t
+                .cell(c)
+                .iter()
+                .map(|&v| t.vertex(v).as_ref().iter().map(|x| x.to_bits()).collect())
+                .collect();
+            v.sort_unstable();
+            v
+        })
+        .collect()
+}
+
+/// The same points reversed and shuffled triangulate to the same cells.
+fn check_order_independent<D: Dim>(pts: &[D::Point]) -> usize {
+    let base = cells_by_coords::<D>(pts);
+    let mut reversed = pts.to_vec();
+    reversed.reverse();
+    let mut shuffled = pts.to_vec();
+    let n = shuffled.len();
+    for i in 0..n {
+        shuffled.swap(i, (i * 7919 + 13) % n);
+    }
+    assert_eq!(cells_by_coords::<D>(&reversed), base);
+    assert_eq!(cells_by_coords::<D>(&shuffled), base);
+    base.len()
+}
+
 /// The perturbation ranks points by their coordinates, so a degenerate set gets the same
 /// triangulation whatever the input order.
 #[test]
 fn degenerate_sets_do_not_depend_on_input_order() {
-    fn cells_by_coords(pts: &[[f64; 3]]) -> std::collections::BTreeSet<Vec<[u64; 3]>> {
-        let t = Triangulation3::new(pts).unwrap();
-        t.validate().unwrap();
-        t.cells()
-            .map(|c| {
-                let mut v: Vec<[u64; 3]> = t
-                    .cell(c)
-                    .iter()
-                    .map(|&v| t.vertex(v).map(f64::to_bits))
-                    .collect();
-                v.sort_unstable();
-                v
-            })
-            .collect()
-    }
-    let pts = grid3(6);
-    let mut reversed = pts.clone();
-    reversed.reverse();
-    let mut shuffled = pts.clone();
-    let n = shuffled.len();
-    for i in 0..n {
-        shuffled.swap(i, (i * 7919 + 13) % n);
-    }
-    let base = cells_by_coords(&pts);
     assert_eq!(
-        base.len(),
+        check_order_independent::<D3>(&grid3(6)),
         6 * 5 * 5 * 5,
-        "six tetrahedra per co-spherical cube"
+        "six tetrahedra per cube"
     );
-    assert_eq!(cells_by_coords(&reversed), base);
-    assert_eq!(cells_by_coords(&shuffled), base);
-}
-
-#[test]
-fn degenerate_2d_sets_do_not_depend_on_input_order() {
-    fn cells_by_coords(pts: &[[f64; 2]]) -> std::collections::BTreeSet<Vec<[u64; 2]>> {
-        let t = Triangulation2::new(pts).unwrap();
-        t.validate().unwrap();
-        t.cells()
-            .map(|c| {
-                let mut v: Vec<[u64; 2]> = t
-                    .cell(c)
-                    .iter()
-                    .map(|&v| t.vertex(v).map(f64::to_bits))
-                    .collect();
-                v.sort_unstable();
-                v
-            })
-            .collect()
-    }
-    let pts = grid2(12);
-    let mut reversed = pts.clone();
-    reversed.reverse();
-    let mut shuffled = pts.clone();
-    let n = shuffled.len();
-    for i in 0..n {
-        shuffled.swap(i, (i * 7919 + 13) % n);
-    }
-    let base = cells_by_coords(&pts);
-    assert_eq!(cells_by_coords(&reversed), base);
-    assert_eq!(cells_by_coords(&shuffled), base);
-    // All squares are cut the same way: by the diagonal that avoids the lexicographically
-    // smallest corner's perturbation winning (the one CGAL picks too).
-    let circle = circle_points();
-    let mut rev = circle.clone();
-    rev.reverse();
-    assert_eq!(cells_by_coords(&circle), cells_by_coords(&rev));
+    check_order_independent::<D3>(&sphere_points());
+    check_order_independent::<D2>(&grid2(12));
+    check_order_independent::<D2>(&circle_points());
 }
 
 /// Every unit square of a grid is co-circular; the lexicographic perturbation cuts all of
