@@ -48,29 +48,24 @@ fn check_vertices<D: Dim>(t: &Triangulation<D>, pts: &[D::Point]) {
     assert_eq!(t.num_vertices() + t.duplicates().len(), pts.len());
 }
 
-#[test]
-fn random_2d_sets_are_delaunay() {
-    for (n, seed) in [(3, 1), (4, 2), (10, 3), (100, 4), (2000, 5)] {
-        let pts = uniform2(n, seed);
-        let t = Triangulation2::new(&pts).unwrap();
-        t.validate().unwrap();
-        if n <= 100 {
-            t.validate_globally().unwrap();
-        }
-        check_vertices(&t, &pts);
+/// Builds, validates (globally too for small sets) and checks the vertex bookkeeping.
+fn check_set<D: Dim>(pts: &[D::Point]) -> Triangulation<D> {
+    let t = Triangulation::<D>::new(pts).unwrap();
+    t.validate().unwrap();
+    if pts.len() <= 100 {
+        t.validate_globally().unwrap();
     }
+    check_vertices(&t, pts);
+    t
 }
 
 #[test]
-fn random_3d_sets_are_delaunay() {
+fn random_sets_are_delaunay() {
+    for (n, seed) in [(3, 1), (4, 2), (10, 3), (100, 4), (2000, 5)] {
+        check_set::<D2>(&uniform2(n, seed));
+    }
     for (n, seed) in [(4, 1), (5, 2), (10, 3), (100, 4), (3000, 5)] {
-        let pts = uniform3(n, seed);
-        let t = Triangulation3::new(&pts).unwrap();
-        t.validate().unwrap();
-        if n <= 100 {
-            t.validate_globally().unwrap();
-        }
-        check_vertices(&t, &pts);
+        check_set::<D3>(&uniform3(n, seed));
     }
 }
 
