@@ -1,7 +1,10 @@
-//! Boundary integrity (planned; see `../shared/paper.md` R4–R8).
+//! Boundary integrity (see `../shared/paper.md` R4–R8).
 //!
-//! This crate will turn a piecewise linear complex (`Plc`: points, boundary segments or surface
-//! facets, holes, region seeds) into a boundary-conforming triangulation: a-posteriori edge and
-//! face checking with mid-point / centroid insertion, the a-priori point-per-edge/face method,
-//! and the flood fill that deletes elements outside the domain. It records the recovery history
-//! in the shape of the paper's Table 2. Nothing is implemented yet.
+//! This crate turns a piecewise linear complex ([`Plc2`]: points, boundary segments, holes,
+//! region seeds) into a boundary-conforming triangulation: a-posteriori edge checking with
+//! mid-point insertion, the a-priori point-per-edge method, Steiner-free recovery by edge flips,
+//! and the flood fill that deletes elements outside the domain.
+
+mod plc;
+
+pub use plc::{Plc2, RegionSeed, Segment};

@@ -29,6 +29,7 @@ pub use delmesh_io::{IoError, PointSet};
 
 pub mod delaunay;
 pub mod demos;
+pub mod geometry;
 mod error;
 
 pub use error::Error;

@@ -1,5 +1,9 @@
-//! Automatic interior point generation (planned; see `../shared/paper.md` R9–R11).
+//! Automatic interior point generation (see `../shared/paper.md` R9–R11).
 //!
-//! This crate will hold `SpacingField` (spacing from the boundary, from a background mesh, or
-//! from a solution field for adaptation) and Weatherill's α-criterion centroid insertion, run in
-//! passes until no candidate is accepted. Nothing is implemented yet.
+//! [`SpacingField`] says how far apart points should be anywhere in the domain: interpolated
+//! from the boundary spacing, from a background mesh, from a solution field (adaptation), with
+//! optional analytic sources.
+
+mod spacing;
+
+pub use spacing::*;

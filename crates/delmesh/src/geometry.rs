@@ -1,0 +1,1 @@
+//! Analytic geometry of the demos (placeholder being written).

@@ -1,0 +1,1 @@
+//! Spacing fields (placeholder being written).
