@@ -1,5 +1,7 @@
 //! Errors of the Delaunay kernel: bad input is reported, never panicked on.
 
+use crate::ids::VertexId;
+
 /// Why a triangulation could not be built or a point not inserted.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum TriangulationError {
@@ -50,6 +52,65 @@ pub enum TriangulationError {
     /// More vertices or cells than `u32` indices allow.
     #[error("too many points for 32-bit indices ({0})")]
     TooManyPoints(usize),
+}
+
+/// Why an operation on a [`crate::ConstrainedTriangulation2`] failed. Vertex ids are the
+/// triangulation's; map them to input numbers with `Triangulation::input_index`.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ConstraintError {
+    /// A bad point (non-finite, out of range).
+    #[error(transparent)]
+    Triangulation(TriangulationError),
+    /// A point to insert lies outside the convex hull or on a hull edge.
+    #[error("point ({}, {}) lies outside the triangulated region or on its hull", point[0], point[1])]
+    OutsideHull {
+        /// The point (caller's coordinates).
+        point: [f64; 2],
+    },
+    /// The edge `a b` is not in the triangulation (or is not an edge between two vertices).
+    #[error("edge {a:?} {b:?} is not in the triangulation")]
+    MissingEdge {
+        /// First vertex.
+        a: VertexId,
+        /// Second vertex.
+        b: VertexId,
+    },
+    /// A vertex lies in the interior of the segment `a b`.
+    #[error("vertex {vertex:?} lies on segment {a:?} {b:?}")]
+    VertexOnSegment {
+        /// First end of the segment.
+        a: VertexId,
+        /// Second end of the segment.
+        b: VertexId,
+        /// The vertex on it.
+        vertex: VertexId,
+    },
+    /// The segment `a b` crosses the constrained edge `c d`.
+    #[error("segment {a:?} {b:?} crosses constrained edge {c:?} {d:?}")]
+    CrossesConstraint {
+        /// First end of the segment.
+        a: VertexId,
+        /// Second end of the segment.
+        b: VertexId,
+        /// First end of the constrained edge.
+        c: VertexId,
+        /// Second end of the constrained edge.
+        d: VertexId,
+    },
+    /// Flipping made no progress inserting segment `a b` (a bug in delmesh if it ever fires).
+    #[error("segment {a:?} {b:?}: edge flipping made no progress")]
+    Stalled {
+        /// First end of the segment.
+        a: VertexId,
+        /// Second end of the segment.
+        b: VertexId,
+    },
+    /// Moving `vertex` would invert a cell, or it is a hull vertex.
+    #[error("moving vertex {vertex:?} would invert a cell (or it is on the hull)")]
+    InvalidMove {
+        /// The vertex.
+        vertex: VertexId,
+    },
 }
 
 /// A broken invariant found by `Triangulation::validate` (a bug in delmesh if it ever fires).

@@ -16,6 +16,7 @@
 //! ```
 #![forbid(unsafe_code)]
 
+mod constrained;
 mod dim;
 mod error;
 mod ids;
@@ -24,8 +25,9 @@ mod triangulation;
 mod validate;
 mod voronoi;
 
+pub use constrained::ConstrainedTriangulation2;
 pub use dim::{Dim, D2, D3};
-pub use error::{TriangulationError, ValidationError};
+pub use error::{ConstraintError, TriangulationError, ValidationError};
 pub use ids::{CellId, FacetRef, VertexId};
 pub use triangulation::{Insertion, Location, Triangulation};
 pub use voronoi::{VoronoiCell2, VoronoiDiagram, VoronoiFace3};

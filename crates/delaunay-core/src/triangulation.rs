@@ -344,7 +344,7 @@ impl<D: Dim> Triangulation<D> {
         }
     }
 
-    fn push_vertex(&mut self, p: D::Point, input: u32) -> VertexId {
+    pub(crate) fn push_vertex(&mut self, p: D::Point, input: u32) -> VertexId {
         let v = VertexId(self.input_index.len() as u32);
         if self.bulk {
             // `points` already holds the insertion order; `v` is at most the point's position.
@@ -429,6 +429,23 @@ impl<D: Dim> Triangulation<D> {
     /// predicates would overflow).
     pub fn insert(&mut self, point: D::Point) -> Result<Insertion, TriangulationError> {
         let input = self.vertex_of_input.len();
+        let p = self.scaled_input(point)?;
+        let result = self.insert_scaled(p, input as u32);
+        match result {
+            Insertion::Inserted(_) => {}
+            Insertion::Duplicate(v) => {
+                self.vertex_of_input.push(v);
+                let original = self.input_index[v.index()] as usize;
+                self.duplicates.push((input, original));
+            }
+        }
+        Ok(result)
+    }
+
+    /// Checks a new point (caller's coordinates) for the next input index and returns it in
+    /// internal coordinates.
+    pub(crate) fn scaled_input(&self, point: D::Point) -> Result<D::Point, TriangulationError> {
+        let input = self.vertex_of_input.len();
         if input >= MAX_POINTS {
             return Err(TriangulationError::TooManyPoints(input));
         }
@@ -450,16 +467,7 @@ impl<D: Dim> Triangulation<D> {
                 });
             }
         }
-        let result = self.insert_scaled(p, input as u32);
-        match result {
-            Insertion::Inserted(_) => {}
-            Insertion::Duplicate(v) => {
-                self.vertex_of_input.push(v);
-                let original = self.input_index[v.index()] as usize;
-                self.duplicates.push((input, original));
-            }
-        }
-        Ok(result)
+        Ok(p)
     }
 
     /// Inserts an internal (scaled) point with the given input index.
@@ -748,12 +756,12 @@ impl<D: Dim> Triangulation<D> {
     }
 
     #[inline]
-    fn link(&mut self, a: FacetRef, b: FacetRef) {
+    pub(crate) fn link(&mut self, a: FacetRef, b: FacetRef) {
         self.simplices[a.cell().index()].n[a.facet()] = b;
         self.simplices[b.cell().index()].n[b.facet()] = a;
     }
 
-    fn alloc_cell(&mut self, verts: &[VertexId]) -> CellId {
+    pub(crate) fn alloc_cell(&mut self, verts: &[VertexId]) -> CellId {
         if let Some(c) = self.free.pop() {
             self.simplices[c.index()].v[..D::C].copy_from_slice(verts);
             return c;
@@ -864,7 +872,7 @@ impl<D: Dim> Triangulation<D> {
     }
 
     #[inline]
-    fn ghost_position(&self, c: CellId) -> Option<usize> {
+    pub(crate) fn ghost_position(&self, c: CellId) -> Option<usize> {
         self.cell(c).iter().position(|v| v.is_ghost())
     }
 

@@ -19,6 +19,15 @@ impl<D: Dim> Triangulation<D> {
     /// # Errors
     /// The first broken invariant found (which would be a bug in delmesh).
     pub fn validate(&self) -> Result<(), ValidationError> {
+        self.validate_skipping(|_, _| false)
+    }
+
+    /// [`Triangulation::validate`] with the Delaunay test waived across the facets for which
+    /// `waived(cell, facet)` is true (constrained edges).
+    pub(crate) fn validate_skipping(
+        &self,
+        waived: impl Fn(CellId, usize) -> bool,
+    ) -> Result<(), ValidationError> {
         let n = self.num_vertices();
         let mut n_finite = 0usize;
         let mut n_ghost = 0usize;
@@ -70,7 +79,7 @@ impl<D: Dim> Triangulation<D> {
                     });
                 }
                 let opposite = theirs_all[across.facet()];
-                if !opposite.is_ghost() && self.vertex_in_conflict(c, opposite) {
+                if !opposite.is_ghost() && !waived(c, f) && self.vertex_in_conflict(c, opposite) {
                     return Err(ValidationError::NotDelaunay {
                         cell: c.0,
                         vertex: opposite.0,

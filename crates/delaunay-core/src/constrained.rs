@@ -1,0 +1,633 @@
+//! [`ConstrainedTriangulation2`]: a 2D triangulation with constrained edges, kept constrained
+//! Delaunay by edge flips.
+//!
+//! Mesh generation needs three things plain Bowyer–Watson insertion cannot give:
+//! - boundary edges that later insertions never cross or remove (the recovered boundary);
+//! - segments inserted without adding points (Steiner-free recovery, beyond the paper);
+//! - the Delaunay property restored after smoothing has moved points.
+//!
+//! All three are edge flips. A point is inserted by splitting the triangle (or the edge) it lies
+//! in and flipping every non-constrained edge that fails the in-circle test (Lawson); a missing
+//! segment is inserted by flipping away the edges it crosses (Sloan), then restoring the
+//! Delaunay property around it. The in-circle test is the kernel's symbolically perturbed one,
+//! so the result is the unique constrained Delaunay triangulation of the vertices and
+//! constraints, whatever the order of operations.
+//!
+//! Each cell also carries a `u32` tag (mesh generation's region), which the cells made from it by
+//! splits and flips inherit.
+
+use crate::dim::{Dim, D2};
+use crate::error::{ConstraintError, TriangulationError};
+use crate::ids::{CellId, FacetRef, VertexId};
+use crate::triangulation::{Insertion, Location, Triangulation};
+use delmesh_predicates::{orient2d, Sign};
+use std::collections::VecDeque;
+
+/// A 2D triangulation with constrained edges and a tag per cell.
+///
+/// Build it from a [`Triangulation`] (`D2`) with [`ConstrainedTriangulation2::new`], mark the
+/// edges that must stay ([`Self::constrain_edge`]) or insert missing ones by flips
+/// ([`Self::insert_segment`]), then insert points ([`Self::insert`]): the triangulation stays
+/// the constrained Delaunay triangulation.
+#[derive(Clone, Debug)]
+pub struct ConstrainedTriangulation2 {
+    tri: Triangulation<D2>,
+    /// Per cell slot, bit `i`: the edge opposite local vertex `i` is constrained.
+    constrained: Vec<u8>,
+    /// Per cell slot: the caller's tag.
+    tags: Vec<u32>,
+    /// Edges still to test during Lawson flipping.
+    stack: Vec<FacetRef>,
+}
+
+#[inline]
+fn next(i: usize) -> usize {
+    if i == 2 {
+        0
+    } else {
+        i + 1
+    }
+}
+
+#[inline]
+fn prev(i: usize) -> usize {
+    if i == 0 {
+        2
+    } else {
+        i - 1
+    }
+}
+
+/// Whether two signs are strictly opposite (neither zero).
+#[inline]
+fn strictly_opposite(s: Sign, t: Sign) -> bool {
+    matches!(
+        (s, t),
+        (Sign::Positive, Sign::Negative) | (Sign::Negative, Sign::Positive)
+    )
+}
+
+#[inline]
+fn bit(mask: u8, k: usize) -> u8 {
+    (mask >> k) & 1
+}
+
+impl ConstrainedTriangulation2 {
+    /// Wraps a Delaunay triangulation: no constraints yet, every tag 0.
+    pub fn new(tri: Triangulation<D2>) -> Self {
+        let n = tri.simplices.len();
+        ConstrainedTriangulation2 {
+            tri,
+            constrained: vec![0; n],
+            tags: vec![0; n],
+            stack: Vec::new(),
+        }
+    }
+
+    /// The underlying triangulation (cells, neighbours, vertices, queries).
+    pub fn triangulation(&self) -> &Triangulation<D2> {
+        &self.tri
+    }
+
+    /// Gives the underlying triangulation back, dropping constraints and tags.
+    pub fn into_triangulation(self) -> Triangulation<D2> {
+        self.tri
+    }
+
+    /// Whether the edge of `c` opposite its local vertex `i` is constrained.
+    #[inline]
+    pub fn is_constrained(&self, c: CellId, i: usize) -> bool {
+        bit(self.constrained[c.index()], i) != 0
+    }
+
+    /// The tag of cell `c`.
+    #[inline]
+    pub fn tag(&self, c: CellId) -> u32 {
+        self.tags[c.index()]
+    }
+
+    /// Sets the tag of cell `c`.
+    #[inline]
+    pub fn set_tag(&mut self, c: CellId, tag: u32) {
+        self.tags[c.index()] = tag;
+    }
+
+    /// The constrained edges, each once, as vertex pairs.
+    pub fn constrained_edges(&self) -> Vec<(VertexId, VertexId)> {
+        let mut out = Vec::new();
+        for c in self.tri.all_cells() {
+            let m = self.constrained[c.index()];
+            if m == 0 {
+                continue;
+            }
+            let v = self.tri.cell(c);
+            for i in 0..3 {
+                let (a, b) = (v[next(i)], v[prev(i)]);
+                // Each edge is seen from both sides; report it from the side where a < b.
+                if bit(m, i) != 0 && a < b {
+                    out.push((a, b));
+                }
+            }
+        }
+        out
+    }
+
+    /// Keeps the per-cell arrays as long as the cell arrays.
+    fn sync(&mut self) {
+        let n = self.tri.simplices.len();
+        if self.constrained.len() < n {
+            self.constrained.resize(n, 0);
+            self.tags.resize(n, 0);
+        }
+    }
+
+    #[inline]
+    fn pt(&self, v: VertexId) -> [f64; 2] {
+        self.tri.points[v.index()]
+    }
+
+    /// The cell and local facet of the edge `a b` (in either direction), if present. Walks
+    /// around `a` through its incident cells, so it costs the degree of `a`.
+    pub fn find_edge(&self, a: VertexId, b: VertexId) -> Option<(CellId, usize)> {
+        if a == b || a.is_ghost() || a.index() >= self.tri.num_vertices() {
+            return None;
+        }
+        let start = self.tri.incident[a.index()];
+        let mut c = start;
+        loop {
+            let s = &self.tri.simplices[c.index()];
+            let k = s.v[..3].iter().position(|&u| u == a)?;
+            if s.v[next(k)] == b {
+                return Some((c, prev(k)));
+            }
+            if s.v[prev(k)] == b {
+                return Some((c, next(k)));
+            }
+            // Counter-clockwise around a: across the edge (a, v[k+2]), opposite v[k+1].
+            c = s.n[next(k)].cell();
+            if c == start {
+                return None;
+            }
+        }
+    }
+
+    /// Marks the existing edge `a b` as constrained.
+    ///
+    /// # Errors
+    /// [`ConstraintError::MissingEdge`] if the edge is not in the triangulation.
+    pub fn constrain_edge(&mut self, a: VertexId, b: VertexId) -> Result<(), ConstraintError> {
+        let (c, f) = self
+            .find_edge(a, b)
+            .ok_or(ConstraintError::MissingEdge { a, b })?;
+        let across = self.tri.simplices[c.index()].n[f];
+        self.constrained[c.index()] |= 1 << f;
+        self.constrained[across.cell().index()] |= 1 << across.facet();
+        Ok(())
+    }
+
+    /// Inserts one point (caller's coordinates) and restores the constrained Delaunay property
+    /// by flips. A point on a constrained edge splits it into two constrained edges.
+    ///
+    /// # Errors
+    /// Bad coordinates (as [`Triangulation::insert`]), or a point outside the convex hull or on
+    /// a hull edge (mesh generation only inserts inside the domain).
+    pub fn insert(&mut self, point: [f64; 2]) -> Result<Insertion, ConstraintError> {
+        let input = self.tri.vertex_of_input.len();
+        let p = self.tri.scaled_input(point)?;
+        let c = match self.tri.locate_from(p, self.tri.last) {
+            Location::Vertex(v) => {
+                self.tri.vertex_of_input.push(v);
+                let original = self.tri.input_index[v.index()] as usize;
+                self.tri.duplicates.push((input, original));
+                return Ok(Insertion::Duplicate(v));
+            }
+            Location::Cell(c) => c,
+        };
+        if self.tri.is_ghost(c) {
+            return Err(ConstraintError::OutsideHull { point });
+        }
+        let s = self.tri.simplices[c.index()];
+        let on_edge =
+            (0..3).find(|&i| D2::orient_replacing(&self.tri.points, &s.v, i, p) == Sign::Zero);
+        if let Some(i) = on_edge {
+            if self.tri.is_ghost(s.n[i].cell()) {
+                return Err(ConstraintError::OutsideHull { point });
+            }
+        }
+        let v = self.tri.push_vertex(p, input as u32);
+        self.stack.clear();
+        match on_edge {
+            None => self.split_cell(c, v),
+            Some(i) => self.split_edge(c, i, v),
+        }
+        self.legalize_around(v);
+        Ok(Insertion::Inserted(v))
+    }
+
+    /// Splits finite cell `c` into three at the new vertex `v` inside it; queues the three
+    /// edges opposite `v`.
+    fn split_cell(&mut self, c: CellId, v: VertexId) {
+        let s = self.tri.simplices[c.index()];
+        let (cons, tag) = (self.constrained[c.index()], self.tags[c.index()]);
+        let k1 = self.tri.alloc_cell(&[s.v[0], v, s.v[2]]);
+        let k2 = self.tri.alloc_cell(&[s.v[0], s.v[1], v]);
+        self.sync();
+        self.tri.simplices[c.index()].v[0] = v;
+        let ks = [c, k1, k2];
+        for (i, &k) in ks.iter().enumerate() {
+            self.tri.link(FacetRef::new(k, i), s.n[i]);
+            self.constrained[k.index()] = bit(cons, i) << i;
+            self.tags[k.index()] = tag;
+            self.stack.push(FacetRef::new(k, i));
+        }
+        // Facet j of k_i (the edge through v and vertex 3 − i − j) is facet i of k_j.
+        self.tri.link(FacetRef::new(c, 1), FacetRef::new(k1, 0));
+        self.tri.link(FacetRef::new(c, 2), FacetRef::new(k2, 0));
+        self.tri.link(FacetRef::new(k1, 2), FacetRef::new(k2, 1));
+        self.set_incident(v, c);
+        self.set_incident(s.v[1], c);
+        self.set_incident(s.v[2], c);
+        self.set_incident(s.v[0], k1);
+        self.tri.last = c;
+    }
+
+    /// Splits the edge of finite cell `c` opposite its local vertex `i` (shared with a finite
+    /// cell) at the new vertex `v` on it: two cells become four. A constrained edge stays
+    /// constrained in both halves. Queues the four edges opposite `v`.
+    fn split_edge(&mut self, c: CellId, i: usize, v: VertexId) {
+        let s = self.tri.simplices[c.index()];
+        let across = s.n[i];
+        let (e, j) = (across.cell(), across.facet());
+        let t = self.tri.simplices[e.index()];
+        let (cc, ce) = (self.constrained[c.index()], self.constrained[e.index()]);
+        let (tc, te) = (self.tags[c.index()], self.tags[e.index()]);
+        let (a, b, q, d) = (s.v[i], s.v[next(i)], s.v[prev(i)], t.v[j]);
+        // c1 = c with b → v; c2 = c with q → v; e1 = e with q → v; e2 = e with b → v.
+        let mut c2v = s.v;
+        c2v[prev(i)] = v;
+        let c2 = self.tri.alloc_cell(&c2v[..3]);
+        let mut e2v = t.v;
+        e2v[prev(j)] = v;
+        let e2 = self.tri.alloc_cell(&e2v[..3]);
+        self.sync();
+        self.tri.simplices[c.index()].v[next(i)] = v;
+        self.tri.simplices[e.index()].v[next(j)] = v;
+        let (c1, e1) = (c, e);
+        self.tri.link(FacetRef::new(c1, next(i)), s.n[next(i)]);
+        self.tri.link(FacetRef::new(c2, prev(i)), s.n[prev(i)]);
+        self.tri.link(FacetRef::new(e1, next(j)), t.n[next(j)]);
+        self.tri.link(FacetRef::new(e2, prev(j)), t.n[prev(j)]);
+        self.tri.link(FacetRef::new(c1, i), FacetRef::new(e2, j));
+        self.tri.link(FacetRef::new(c2, i), FacetRef::new(e1, j));
+        self.tri
+            .link(FacetRef::new(c1, prev(i)), FacetRef::new(c2, next(i)));
+        self.tri
+            .link(FacetRef::new(e1, prev(j)), FacetRef::new(e2, next(j)));
+        let split = bit(cc, i);
+        self.constrained[c1.index()] = split << i | bit(cc, next(i)) << next(i);
+        self.constrained[c2.index()] = split << i | bit(cc, prev(i)) << prev(i);
+        self.constrained[e1.index()] = split << j | bit(ce, next(j)) << next(j);
+        self.constrained[e2.index()] = split << j | bit(ce, prev(j)) << prev(j);
+        self.tags[c1.index()] = tc;
+        self.tags[c2.index()] = tc;
+        self.tags[e1.index()] = te;
+        self.tags[e2.index()] = te;
+        for (k, f) in [(c1, next(i)), (c2, prev(i)), (e1, next(j)), (e2, prev(j))] {
+            self.stack.push(FacetRef::new(k, f));
+        }
+        self.set_incident(v, c1);
+        self.set_incident(a, c1);
+        self.set_incident(q, c1);
+        self.set_incident(b, c2);
+        self.set_incident(d, e1);
+        self.tri.last = c1;
+    }
+
+    #[inline]
+    fn set_incident(&mut self, v: VertexId, c: CellId) {
+        if !v.is_ghost() {
+            self.tri.incident[v.index()] = c;
+        }
+    }
+
+    /// Flips the edge of finite cell `c` opposite its local vertex `i`, shared with the finite
+    /// cell across it. With `c = (a, b, q)` (a at `i`) and `d` across, the new cells are
+    /// `(a, b, d)` in slot `c` and `(a, d, q)` in the neighbour's slot: `a` is local vertex 0
+    /// of both and the new edge `a d` is facet 1 of the first, facet 2 of the second.
+    fn flip(&mut self, c: CellId, i: usize) -> (CellId, CellId) {
+        let s = self.tri.simplices[c.index()];
+        let across = s.n[i];
+        let (e, j) = (across.cell(), across.facet());
+        let t = self.tri.simplices[e.index()];
+        let (a, b, q, d) = (s.v[i], s.v[next(i)], s.v[prev(i)], t.v[j]);
+        debug_assert!(t.v[next(j)] == q && t.v[prev(j)] == b);
+        let (cc, ce) = (self.constrained[c.index()], self.constrained[e.index()]);
+        let tag = self.tags[c.index()];
+        self.tri.simplices[c.index()].v = [a, b, d, VertexId::GHOST];
+        self.tri.simplices[e.index()].v = [a, d, q, VertexId::GHOST];
+        self.tri.link(FacetRef::new(c, 0), t.n[next(j)]); // edge b d
+        self.tri.link(FacetRef::new(c, 2), s.n[prev(i)]); // edge a b
+        self.tri.link(FacetRef::new(e, 0), t.n[prev(j)]); // edge d q
+        self.tri.link(FacetRef::new(e, 1), s.n[next(i)]); // edge q a
+        self.tri.link(FacetRef::new(c, 1), FacetRef::new(e, 2)); // edge a d
+        self.constrained[c.index()] = bit(ce, next(j)) | bit(cc, prev(i)) << 2;
+        self.constrained[e.index()] = bit(ce, prev(j)) | bit(cc, next(i)) << 1;
+        self.tags[e.index()] = tag;
+        self.set_incident(a, c);
+        self.set_incident(b, c);
+        self.set_incident(d, c);
+        self.set_incident(q, e);
+        (c, e)
+    }
+
+    /// Whether the edge of `c` opposite local vertex `i` must be flipped: not constrained, not
+    /// on the hull, and the vertex across it lies inside the circumcircle of `c` (perturbed).
+    #[inline]
+    fn needs_flip(&self, c: CellId, i: usize) -> bool {
+        if self.is_constrained(c, i) || self.tri.is_ghost(c) {
+            return false;
+        }
+        let across = self.tri.simplices[c.index()].n[i];
+        let e = across.cell();
+        if self.tri.is_ghost(e) {
+            return false;
+        }
+        let d = self.tri.simplices[e.index()].v[across.facet()];
+        D2::insphere_cell(
+            &self.tri.points,
+            &self.tri.simplices[c.index()].v,
+            self.pt(d),
+        ) == Sign::Positive
+    }
+
+    /// Lawson flips after inserting `v`: the queued edges are opposite `v`; each flip queues the
+    /// two new edges opposite `v`.
+    fn legalize_around(&mut self, v: VertexId) {
+        while let Some(fr) = self.stack.pop() {
+            let (c, i) = (fr.cell(), fr.facet());
+            if self.tri.simplices[c.index()].v[i] != v || !self.needs_flip(c, i) {
+                continue;
+            }
+            let (t1, t2) = self.flip(c, i);
+            self.stack.push(FacetRef::new(t1, 0));
+            self.stack.push(FacetRef::new(t2, 0));
+        }
+    }
+
+    /// Lawson flips from the queued edges until every edge reached is locally (constrained)
+    /// Delaunay; each flip queues the four outer edges of its quadrilateral. Returns the number
+    /// of flips.
+    fn legalize_queued(&mut self) -> usize {
+        let mut flips = 0;
+        while let Some(fr) = self.stack.pop() {
+            let (c, i) = (fr.cell(), fr.facet());
+            if self.tri.simplices[c.index()].v[0] == VertexId::DEAD || !self.needs_flip(c, i) {
+                continue;
+            }
+            let (t1, t2) = self.flip(c, i);
+            flips += 1;
+            self.stack.extend([
+                FacetRef::new(t1, 0),
+                FacetRef::new(t1, 2),
+                FacetRef::new(t2, 0),
+                FacetRef::new(t2, 1),
+            ]);
+        }
+        flips
+    }
+
+    /// Restores the constrained Delaunay property everywhere by edge flips (after vertices were
+    /// moved, e.g. by smoothing). Returns the number of flips. Terminates: each flip lowers the
+    /// triangulation on the (perturbed) lifting paraboloid.
+    pub fn make_delaunay(&mut self) -> usize {
+        self.stack.clear();
+        for c in self.tri.cells().collect::<Vec<_>>() {
+            for i in 0..3 {
+                let n = self.tri.simplices[c.index()].n[i].cell();
+                if c < n {
+                    self.stack.push(FacetRef::new(c, i));
+                }
+            }
+        }
+        self.legalize_queued()
+    }
+
+    /// Inserts the segment `a b` as a constrained edge without adding points: the edges it
+    /// crosses are flipped away (Sloan's algorithm), then the Delaunay property is restored
+    /// around it. Nothing to do but mark it if the edge exists.
+    ///
+    /// # Errors
+    /// [`ConstraintError::VertexOnSegment`] if a vertex lies in the segment's interior,
+    /// [`ConstraintError::CrossesConstraint`] if it crosses a constrained edge; the
+    /// triangulation is unchanged in both cases.
+    pub fn insert_segment(&mut self, a: VertexId, b: VertexId) -> Result<(), ConstraintError> {
+        let n = self.tri.num_vertices();
+        if a == b || a.is_ghost() || b.is_ghost() || a.index() >= n || b.index() >= n {
+            return Err(ConstraintError::MissingEdge { a, b });
+        }
+        if self.find_edge(a, b).is_some() {
+            return self.constrain_edge(a, b);
+        }
+        let mut crossed = self.crossed_edges(a, b)?;
+        let (pa, pb) = (self.pt(a), self.pt(b));
+        let mut new_edges = Vec::new();
+        // Each pass over the queue flips at least one edge (Sloan), so this bound is generous.
+        let mut budget = 4 * crossed.len() * crossed.len() + 64;
+        while let Some((r, l)) = crossed.pop_front() {
+            budget = budget.saturating_sub(1);
+            if budget == 0 {
+                return Err(ConstraintError::Stalled { a, b });
+            }
+            let (c, f) = self
+                .find_edge(r, l)
+                .expect("a crossed edge is in the triangulation: a bug in delmesh");
+            let s = self.tri.simplices[c.index()];
+            let across = s.n[f];
+            let x = s.v[f];
+            let y = self.tri.simplices[across.cell().index()].v[across.facet()];
+            let (px, py) = (self.pt(x), self.pt(y));
+            let convex =
+                strictly_opposite(orient2d(px, py, self.pt(r)), orient2d(px, py, self.pt(l)));
+            if !convex {
+                crossed.push_back((r, l));
+                continue;
+            }
+            self.flip(c, f);
+            let (ox, oy) = (orient2d(pa, pb, px), orient2d(pa, pb, py));
+            if strictly_opposite(ox, oy) {
+                // The new edge x y still crosses the segment: x and y are on opposite sides.
+                crossed.push_back(if ox == Sign::Negative { (x, y) } else { (y, x) });
+            } else {
+                new_edges.push((x, y));
+            }
+        }
+        self.constrain_edge(a, b)?;
+        self.stack.clear();
+        for (x, y) in new_edges {
+            if let Some((c, f)) = self.find_edge(x, y) {
+                self.stack.push(FacetRef::new(c, f));
+            }
+        }
+        self.legalize_queued();
+        Ok(())
+    }
+
+    /// The edges the segment `a b` crosses, in order from `a`, as `(right, left)` vertex pairs
+    /// (seen along `a → b`).
+    fn crossed_edges(
+        &self,
+        a: VertexId,
+        b: VertexId,
+    ) -> Result<VecDeque<(VertexId, VertexId)>, ConstraintError> {
+        let (pa, pb) = (self.pt(a), self.pt(b));
+        let on_segment = |u: VertexId| {
+            // u is collinear with a b: is it between them? (Never at b: the edge is absent.)
+            let pu = self.pt(u);
+            let along =
+                |p: [f64; 2]| (p[0] - pa[0]) * (pb[0] - pa[0]) + (p[1] - pa[1]) * (pb[1] - pa[1]);
+            along(pu) > 0.0 && along(pu) < along(pb)
+        };
+        // The cell around a whose wedge contains the direction to b.
+        let start = self.tri.incident[a.index()];
+        let mut c = start;
+        // The crossed edge is facet `f` of `near`, whose opposite vertex is on a's side.
+        let (mut near, mut f, mut r, mut l);
+        loop {
+            let s = &self.tri.simplices[c.index()];
+            let k = s.v[..3]
+                .iter()
+                .position(|&u| u == a)
+                .expect("the star of a contains a: a bug in delmesh");
+            let (u, w) = (s.v[next(k)], s.v[prev(k)]);
+            if !u.is_ghost() && !w.is_ghost() {
+                let (ou, ow) = (orient2d(pa, pb, self.pt(u)), orient2d(pa, pb, self.pt(w)));
+                if ou == Sign::Zero && on_segment(u) {
+                    return Err(ConstraintError::VertexOnSegment { a, b, vertex: u });
+                }
+                if ou == Sign::Negative && ow == Sign::Positive {
+                    (near, f, r, l) = (c, k, u, w);
+                    break;
+                }
+            }
+            c = s.n[next(k)].cell();
+            if c == start {
+                // Only possible if the segment left the convex hull, which the segment between
+                // two vertices never does.
+                return Err(ConstraintError::MissingEdge { a, b });
+            }
+        }
+        let mut crossed = VecDeque::new();
+        loop {
+            if self.is_constrained(near, f) {
+                return Err(ConstraintError::CrossesConstraint { a, b, c: r, d: l });
+            }
+            crossed.push_back((r, l));
+            let across = self.tri.simplices[near.index()].n[f];
+            let far = across.cell();
+            let fv = self.tri.simplices[far.index()].v;
+            let x = fv[across.facet()];
+            if x.is_ghost() {
+                return Err(ConstraintError::MissingEdge { a, b });
+            }
+            if x == b {
+                return Ok(crossed);
+            }
+            let position = |u: VertexId| fv[..3].iter().position(|&w| w == u).expect("shared edge");
+            match orient2d(pa, pb, self.pt(x)) {
+                // Leaves through x r (opposite l) or through l x (opposite r).
+                Sign::Positive => {
+                    f = position(l);
+                    l = x;
+                }
+                Sign::Negative => {
+                    f = position(r);
+                    r = x;
+                }
+                Sign::Zero => return Err(ConstraintError::VertexOnSegment { a, b, vertex: x }),
+            }
+            near = far;
+        }
+    }
+
+    /// Moves vertices (caller's coordinates) all at once, if every cell around them stays
+    /// positively oriented; otherwise nothing moves. Hull vertices cannot move.
+    ///
+    /// # Errors
+    /// [`ConstraintError::InvalidMove`] naming the first vertex whose move inverts a cell, or
+    /// is on the hull; coordinate errors as for insertion.
+    pub fn move_vertices(&mut self, moves: &[(VertexId, [f64; 2])]) -> Result<(), ConstraintError> {
+        let mut old = Vec::with_capacity(moves.len());
+        for &(v, p) in moves {
+            if v.is_ghost() || v.index() >= self.tri.num_vertices() {
+                return Err(ConstraintError::InvalidMove { vertex: v });
+            }
+            // Tiny magnitudes (averages of values near zero) are flushed to zero, which the
+            // predicates handle exactly.
+            let (scale, tiny) = (self.tri.scale, self.tri.min_magnitude);
+            let p = p.map(|x| if (x * scale).abs() < tiny { 0.0 } else { x });
+            let q = self.tri.scaled_input(p)?;
+            old.push((v, self.tri.points[v.index()]));
+            self.tri.points[v.index()] = q;
+        }
+        for &(v, _) in moves {
+            if !self.star_positive(v) {
+                for &(u, p) in old.iter().rev() {
+                    self.tri.points[u.index()] = p;
+                }
+                return Err(ConstraintError::InvalidMove { vertex: v });
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether every cell around `v` is finite and positively oriented.
+    fn star_positive(&self, v: VertexId) -> bool {
+        let start = self.tri.incident[v.index()];
+        let mut c = start;
+        loop {
+            let s = &self.tri.simplices[c.index()];
+            if s.v[..3].iter().any(|u| u.is_ghost()) {
+                return false;
+            }
+            let p = [self.pt(s.v[0]), self.pt(s.v[1]), self.pt(s.v[2])];
+            if orient2d(p[0], p[1], p[2]) != Sign::Positive {
+                return false;
+            }
+            let k = s.v[..3]
+                .iter()
+                .position(|&u| u == v)
+                .expect("v in its star");
+            c = s.n[next(k)].cell();
+            if c == start {
+                return true;
+            }
+        }
+    }
+
+    /// Checks the triangulation's invariants (as [`Triangulation::validate`]) with the
+    /// Delaunay test waived across constrained edges (the constrained Delaunay property), and
+    /// that both sides of every constrained edge agree.
+    ///
+    /// # Errors
+    /// The first broken invariant found.
+    pub fn validate(&self) -> Result<(), crate::ValidationError> {
+        for c in self.tri.all_cells() {
+            for i in 0..3 {
+                let across = self.tri.simplices[c.index()].n[i];
+                if self.is_constrained(c, i) != self.is_constrained(across.cell(), across.facet()) {
+                    return Err(crate::ValidationError::AsymmetricNeighbor {
+                        cell: c.0,
+                        facet: i,
+                    });
+                }
+            }
+        }
+        self.tri.validate_skipping(|c, i| self.is_constrained(c, i))
+    }
+}
+
+impl From<TriangulationError> for ConstraintError {
+    fn from(e: TriangulationError) -> Self {
+        ConstraintError::Triangulation(e)
+    }
+}

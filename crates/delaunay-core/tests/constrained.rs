@@ -1,0 +1,262 @@
+//! The constrained 2D triangulation: Lawson insertion, Sloan segment insertion, flips after
+//! moves; every result validated exactly (constrained Delaunay, orientation, adjacency).
+
+mod common;
+
+use common::{grid2, uniform2};
+use delmesh_delaunay_core::{
+    ConstrainedTriangulation2, ConstraintError, Insertion, Triangulation2, VertexId,
+};
+use delmesh_predicates::{orient2d, Sign};
+use proptest::prelude::*;
+use rand::{rngs::StdRng, Rng, SeedableRng};
+use std::collections::BTreeSet;
+
+/// The finite cells as sorted vertex triples in input numbering.
+fn cell_set(tri: &Triangulation2) -> BTreeSet<[usize; 3]> {
+    tri.cells()
+        .map(|c| {
+            let mut t = [0; 3];
+            for (k, &v) in tri.cell(c).iter().enumerate() {
+                t[k] = tri.input_index(v);
+            }
+            t.sort_unstable();
+            t
+        })
+        .collect()
+}
+
+fn crosses(p: &[[f64; 2]], s: (usize, usize), t: (usize, usize)) -> bool {
+    let o = |a: usize, b: usize, c: usize| orient2d(p[a], p[b], p[c]);
+    let opp = |x: Sign, y: Sign| x != y && x != Sign::Zero && y != Sign::Zero;
+    if s.0 == t.0 || s.0 == t.1 || s.1 == t.0 || s.1 == t.1 {
+        return false;
+    }
+    opp(o(s.0, s.1, t.0), o(s.0, s.1, t.1)) && opp(o(t.0, t.1, s.0), o(t.0, t.1, s.1))
+}
+
+/// Random non-crossing segments between the points (greedy).
+fn random_segments(p: &[[f64; 2]], tries: usize, seed: u64) -> Vec<(usize, usize)> {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let mut segs: Vec<(usize, usize)> = Vec::new();
+    for _ in 0..tries {
+        let a = rng.gen_range(0..p.len());
+        let b = rng.gen_range(0..p.len());
+        if a != b
+            && !segs
+                .iter()
+                .any(|&s| crosses(p, s, (a, b)) || s == (a, b) || s == (b, a))
+        {
+            segs.push((a, b));
+        }
+    }
+    segs
+}
+
+/// Inserts `p`; a point outside the hull is refused (and skipped here).
+fn insert_inside(cdt: &mut ConstrainedTriangulation2, p: [f64; 2]) {
+    match cdt.insert(p) {
+        Ok(_) | Err(ConstraintError::OutsideHull { .. }) => {}
+        Err(e) => panic!("{e}"),
+    }
+}
+
+#[test]
+fn lawson_insertion_gives_the_delaunay_triangulation() {
+    // A box first, so every later point is inside the hull.
+    let mut pts = vec![[-1.0, -1.0], [2.0, -1.0], [2.0, 2.0], [-1.0, 2.0]];
+    pts.extend(uniform2(2000, 7));
+    let mut cdt = ConstrainedTriangulation2::new(Triangulation2::new(&pts[..4]).unwrap());
+    for &p in &pts[4..] {
+        assert!(matches!(cdt.insert(p).unwrap(), Insertion::Inserted(_)));
+    }
+    cdt.validate().unwrap();
+    let bw = Triangulation2::new(&pts).unwrap();
+    assert_eq!(cell_set(cdt.triangulation()), cell_set(&bw));
+}
+
+#[test]
+fn lawson_insertion_on_a_grid_matches_bowyer_watson() {
+    // Co-circular everywhere and points exactly on edges: the perturbation must agree.
+    let pts = grid2(12);
+    // The hull points first (insertion refuses points on the hull), then the interior.
+    let on_hull = |p: &[f64; 2]| p[0] == 0.0 || p[1] == 0.0 || p[0] == 11.0 || p[1] == 11.0;
+    let (mut ordered, inner): (Vec<[f64; 2]>, Vec<[f64; 2]>) = pts.iter().partition(|p| on_hull(p));
+    let mut cdt = ConstrainedTriangulation2::new(Triangulation2::new(&ordered).unwrap());
+    for &p in &inner {
+        cdt.insert(p).unwrap();
+    }
+    ordered.extend(inner);
+    let pts = ordered;
+    cdt.validate().unwrap();
+    assert_eq!(
+        cell_set(cdt.triangulation()),
+        cell_set(&Triangulation2::new(&pts).unwrap())
+    );
+}
+
+#[test]
+fn segments_inserted_by_flips_are_present_and_constrained_delaunay() {
+    for seed in 0..5 {
+        let pts = uniform2(400, seed);
+        let segs = random_segments(&pts, 300, seed + 100);
+        let tri = Triangulation2::new(&pts).unwrap();
+        let mut cdt = ConstrainedTriangulation2::new(tri);
+        // Vertex ids never change once given.
+        let ids: Vec<VertexId> = (0..pts.len())
+            .map(|i| cdt.triangulation().vertex_of_input(i))
+            .collect();
+        let v = |i: usize| ids[i];
+        for &(a, b) in &segs {
+            let (va, vb) = (v(a), v(b));
+            cdt.insert_segment(va, vb).unwrap();
+        }
+        cdt.validate().unwrap();
+        for &(a, b) in &segs {
+            assert!(
+                cdt.find_edge(v(a), v(b)).is_some(),
+                "segment {a} {b} missing"
+            );
+        }
+        assert_eq!(cdt.constrained_edges().len(), segs.len());
+        // More points keep every segment (no point falls on one) and the CDT property.
+        for p in uniform2(500, seed + 1000) {
+            insert_inside(&mut cdt, p);
+        }
+        cdt.validate().unwrap();
+        for &(a, b) in &segs {
+            assert!(cdt.find_edge(v(a), v(b)).is_some());
+        }
+    }
+}
+
+#[test]
+fn segment_order_does_not_matter() {
+    let pts = uniform2(300, 3);
+    let segs = random_segments(&pts, 200, 4);
+    let build = |order: &[(usize, usize)]| {
+        let mut cdt = ConstrainedTriangulation2::new(Triangulation2::new(&pts).unwrap());
+        for &(a, b) in order {
+            let t = cdt.triangulation();
+            let (va, vb) = (t.vertex_of_input(a), t.vertex_of_input(b));
+            cdt.insert_segment(va, vb).unwrap();
+        }
+        cell_set(cdt.triangulation())
+    };
+    let mut reversed = segs.clone();
+    reversed.reverse();
+    assert_eq!(build(&segs), build(&reversed));
+}
+
+#[test]
+fn a_segment_through_a_vertex_or_across_a_constraint_is_an_error() {
+    let pts = grid2(5);
+    let mut cdt = ConstrainedTriangulation2::new(Triangulation2::new(&pts).unwrap());
+    let v = |t: &ConstrainedTriangulation2, i: usize| t.triangulation().vertex_of_input(i);
+    // (0,0) → (4,0) passes through (1,0), (2,0), (3,0).
+    let (a, b) = (v(&cdt, 0), v(&cdt, 4));
+    assert!(matches!(
+        cdt.insert_segment(a, b),
+        Err(ConstraintError::VertexOnSegment { .. })
+    ));
+    // (0,1) → (4,2) then (1,3) → (3,0) crosses it.
+    let (a, b) = (v(&cdt, 5), v(&cdt, 14));
+    cdt.insert_segment(a, b).unwrap();
+    let (c, d) = (v(&cdt, 16), v(&cdt, 3));
+    let before = cell_set(cdt.triangulation());
+    assert!(matches!(
+        cdt.insert_segment(c, d),
+        Err(ConstraintError::CrossesConstraint { .. })
+    ));
+    assert_eq!(before, cell_set(cdt.triangulation()));
+    cdt.validate().unwrap();
+}
+
+#[test]
+fn a_point_on_a_constrained_edge_splits_it() {
+    let pts = [[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0], [1.0, 3.0]];
+    let mut cdt = ConstrainedTriangulation2::new(Triangulation2::new(&pts).unwrap());
+    let t = cdt.triangulation();
+    let (a, c) = (t.vertex_of_input(0), t.vertex_of_input(2));
+    cdt.insert_segment(a, c).unwrap();
+    let m = cdt.insert([2.0, 2.0]).unwrap().vertex();
+    cdt.validate().unwrap();
+    assert!(cdt.find_edge(a, m).is_some() && cdt.find_edge(m, c).is_some());
+    assert_eq!(cdt.constrained_edges().len(), 2);
+    assert!(matches!(
+        cdt.insert([5.0, 1.0]),
+        Err(ConstraintError::OutsideHull { .. })
+    ));
+    assert!(matches!(
+        cdt.insert([4.0, 1.0]),
+        Err(ConstraintError::OutsideHull { .. })
+    ));
+    assert!(matches!(
+        cdt.insert([1.0, 3.0]),
+        Ok(Insertion::Duplicate(_))
+    ));
+}
+
+#[test]
+fn moves_that_invert_are_refused_and_flips_restore_delaunay() {
+    let pts = uniform2(500, 11);
+    let mut cdt = ConstrainedTriangulation2::new(Triangulation2::new(&pts).unwrap());
+    let t = cdt.triangulation();
+    // An interior vertex moved onto a far-away hull corner would invert its star.
+    let inner = (0..t.num_vertices() as u32)
+        .map(VertexId)
+        .find(|&v| {
+            let p = t.vertex(v);
+            (p[0] - 0.5).abs() < 0.1 && (p[1] - 0.5).abs() < 0.1
+        })
+        .unwrap();
+    assert!(matches!(
+        cdt.move_vertices(&[(inner, [0.99, 0.99])]),
+        Err(ConstraintError::InvalidMove { .. })
+    ));
+    cdt.validate().unwrap();
+    // Small random moves of interior vertices, then flips: the result is Delaunay again and
+    // equal to the Delaunay triangulation of the moved points.
+    let mut rng = StdRng::seed_from_u64(5);
+    let mut moved = 0;
+    for v in 0..cdt.triangulation().num_vertices() as u32 {
+        let v = VertexId(v);
+        let p = cdt.triangulation().vertex(v);
+        let q = [
+            p[0] + rng.gen_range(-0.01..0.01),
+            p[1] + rng.gen_range(-0.01..0.01),
+        ];
+        if cdt.move_vertices(&[(v, q)]).is_ok() {
+            moved += 1;
+        }
+    }
+    assert!(moved > 300, "{moved}");
+    let flips = cdt.make_delaunay();
+    assert!(flips > 0);
+    cdt.validate().unwrap();
+    let t = cdt.triangulation();
+    let now: Vec<[f64; 2]> = (0..t.num_input_points())
+        .map(|i| t.vertex(t.vertex_of_input(i)))
+        .collect();
+    assert_eq!(cell_set(t), cell_set(&Triangulation2::new(&now).unwrap()));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+    #[test]
+    fn random_constrained_sets_validate(seed in 0u64..1000, n in 20usize..200) {
+        let pts = uniform2(n, seed);
+        let segs = random_segments(&pts, n, seed ^ 0xABCD);
+        let mut cdt = ConstrainedTriangulation2::new(Triangulation2::new(&pts).unwrap());
+        for &(a, b) in &segs {
+            let t = cdt.triangulation();
+            let (va, vb) = (t.vertex_of_input(a), t.vertex_of_input(b));
+            cdt.insert_segment(va, vb).unwrap();
+        }
+        for p in uniform2(n, seed + 1) {
+            insert_inside(&mut cdt, p);
+        }
+        prop_assert!(cdt.validate().is_ok());
+        prop_assert_eq!(cdt.constrained_edges().len(), segs.len());
+    }
+}
