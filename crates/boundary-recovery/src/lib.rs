@@ -1,10 +1,39 @@
-//! Boundary integrity (see `../shared/paper.md` R4–R8).
+//! Boundary integrity (see `../shared/paper.md` R4–R9).
 //!
 //! This crate turns a piecewise linear complex ([`Plc2`]: points, boundary segments, holes,
-//! region seeds) into a boundary-conforming triangulation: a-posteriori edge checking with
-//! mid-point insertion, the a-priori point-per-edge method, Steiner-free recovery by edge flips,
-//! and the flood fill that deletes elements outside the domain.
+//! region seeds) into a boundary-conforming triangulation ([`Mesh2`]): a-posteriori edge
+//! checking with mid-point insertion, the a-priori point-per-edge method, Steiner-free recovery
+//! by edge flips ([`RecoveryMethod`]), and the flood fill that deletes elements outside the
+//! domain. The passes are recorded ([`RecoveryHistory`], the 2D analogue of the paper's
+//! Table 2).
+//!
+//! ```
+//! use delmesh_boundary_recovery::{BoundaryRecovery, Plc2, RecoveryMethod, Segment};
+//! // A unit square with a square hole.
+//! let points = vec![
+//!     [0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0],
+//!     [1.0, 1.0], [1.0, 3.0], [3.0, 3.0], [3.0, 1.0],
+//! ];
+//! let segments = [(0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4)]
+//!     .map(|(a, b)| Segment { a, b, marker: 1 })
+//!     .to_vec();
+//! let plc = Plc2 { points, segments, ..Default::default() };
+//! let mesh = BoundaryRecovery::new(RecoveryMethod::Stitch).run(&plc)?;
+//! assert_eq!(mesh.area(), 12.0);
+//! # Ok::<(), delmesh_boundary_recovery::RecoveryError>(())
+//! ```
 
+mod check;
+mod classify;
+mod error;
+mod mesh;
 mod plc;
+mod recovery;
 
+pub use classify::OUTSIDE;
+pub use error::RecoveryError;
+pub use mesh::MeshArrays;
 pub use plc::{Plc2, RegionSeed, Segment};
+pub use recovery::{
+    BoundaryEdge, BoundaryRecovery, Mesh2, RecoveryHistory, RecoveryMethod, RecoveryPass,
+};

@@ -192,6 +192,36 @@ impl ConstrainedTriangulation2 {
     /// Bad coordinates (as [`Triangulation::insert`]), or a point outside the convex hull or on
     /// a hull edge (mesh generation only inserts inside the domain).
     pub fn insert(&mut self, point: [f64; 2]) -> Result<Insertion, ConstraintError> {
+        self.insert_where(point, |_, _| true)
+            .map(|i| i.expect("insertion accepted everywhere"))
+    }
+
+    /// Inserts `point` only if it lies in a cell tagged `tag` and not exactly on a constrained
+    /// edge; `Ok(None)` otherwise (nothing changes). Point generation uses this, so a candidate
+    /// rounded onto the boundary or across it is refused rather than inserted in the wrong place.
+    ///
+    /// # Errors
+    /// As [`Self::insert`].
+    pub fn insert_in_region(
+        &mut self,
+        point: [f64; 2],
+        tag: u32,
+    ) -> Result<Option<Insertion>, ConstraintError> {
+        self.insert_where(point, |cdt, (c, on_edge)| {
+            cdt.tags[c.index()] == tag && on_edge.is_none_or(|i| !cdt.is_constrained(c, i))
+        })
+    }
+
+    /// Locates `point` (caller's coordinates): the cell containing it or the vertex at it.
+    pub fn locate(&mut self, point: [f64; 2]) -> Location {
+        self.tri.locate(point)
+    }
+
+    fn insert_where(
+        &mut self,
+        point: [f64; 2],
+        accept: impl Fn(&Self, (CellId, Option<usize>)) -> bool,
+    ) -> Result<Option<Insertion>, ConstraintError> {
         let input = self.tri.vertex_of_input.len();
         let p = self.tri.scaled_input(point)?;
         let c = match self.tri.locate_from(p, self.tri.last) {
@@ -199,7 +229,7 @@ impl ConstrainedTriangulation2 {
                 self.tri.vertex_of_input.push(v);
                 let original = self.tri.input_index[v.index()] as usize;
                 self.tri.duplicates.push((input, original));
-                return Ok(Insertion::Duplicate(v));
+                return Ok(Some(Insertion::Duplicate(v)));
             }
             Location::Cell(c) => c,
         };
@@ -214,6 +244,9 @@ impl ConstrainedTriangulation2 {
                 return Err(ConstraintError::OutsideHull { point });
             }
         }
+        if !accept(self, (c, on_edge)) {
+            return Ok(None);
+        }
         let v = self.tri.push_vertex(p, input as u32);
         self.stack.clear();
         match on_edge {
@@ -221,7 +254,7 @@ impl ConstrainedTriangulation2 {
             Some(i) => self.split_edge(c, i, v),
         }
         self.legalize_around(v);
-        Ok(Insertion::Inserted(v))
+        Ok(Some(Insertion::Inserted(v)))
     }
 
     /// Splits finite cell `c` into three at the new vertex `v` inside it; queues the three

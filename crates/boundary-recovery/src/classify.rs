@@ -1,0 +1,135 @@
+//! Exterior deletion by flood fill (R8): which elements are inside the domain, and in which
+//! region.
+//!
+//! Cells are grouped into components connected across non-boundary (unconstrained) edges. The
+//! hull's ghost cells are outside, at depth 0; a component's depth is the fewest boundary edges
+//! crossed to reach it from outside. Closed loops nest, so odd depth is inside the domain and
+//! even depth is outside: the far field's inside is domain, a body's inside is not, an island in
+//! a lake is domain again. An open internal line (a wake) has the same component on both sides
+//! and changes nothing. Hole seeds then remove their component, and region seeds give theirs an
+//! attribute (and make it part of the domain, unless it touches the outside of the hull).
+
+use crate::error::RecoveryError;
+use crate::plc::Plc2;
+use delmesh_delaunay_core::{CellId, ConstrainedTriangulation2, Location};
+use std::collections::VecDeque;
+
+/// The tag of cells outside the domain (and in holes).
+pub const OUTSIDE: u32 = u32::MAX;
+
+/// Tags every cell of `cdt` with its region index (0 for the default region, `1 + k` for the
+/// `k`-th region seed) or [`OUTSIDE`]; returns the attribute of each region index.
+pub(crate) fn classify(
+    cdt: &mut ConstrainedTriangulation2,
+    plc: &Plc2,
+) -> Result<Vec<f64>, RecoveryError> {
+    let slots = cdt
+        .triangulation()
+        .all_cells()
+        .map(|c| c.index() + 1)
+        .max()
+        .unwrap_or(0);
+    // Components across unconstrained edges.
+    let mut component = vec![u32::MAX; slots];
+    let mut n_components = 0u32;
+    let mut stack = Vec::new();
+    let cells: Vec<CellId> = cdt.triangulation().all_cells().collect();
+    for &c in &cells {
+        if component[c.index()] != u32::MAX {
+            continue;
+        }
+        component[c.index()] = n_components;
+        stack.push(c);
+        while let Some(c) = stack.pop() {
+            for i in 0..3 {
+                if cdt.is_constrained(c, i) {
+                    continue;
+                }
+                let n = cdt.triangulation().neighbor_facet(c, i).cell();
+                if component[n.index()] == u32::MAX {
+                    component[n.index()] = n_components;
+                    stack.push(n);
+                }
+            }
+        }
+        n_components += 1;
+    }
+    // Component adjacency across constrained edges, then depth by breadth-first search.
+    let mut adjacent: Vec<(u32, u32)> = Vec::new();
+    for &c in &cells {
+        for i in 0..3 {
+            if cdt.is_constrained(c, i) {
+                let n = cdt.triangulation().neighbor_facet(c, i).cell();
+                let (x, y) = (component[c.index()], component[n.index()]);
+                if x != y {
+                    adjacent.push((x, y));
+                }
+            }
+        }
+    }
+    adjacent.sort_unstable();
+    adjacent.dedup();
+    let nc = n_components as usize;
+    let mut start = vec![0usize; nc + 1];
+    for &(x, _) in &adjacent {
+        start[x as usize + 1] += 1;
+    }
+    for k in 0..nc {
+        start[k + 1] += start[k];
+    }
+    let mut depth = vec![u32::MAX; nc];
+    let mut queue = VecDeque::new();
+    for &c in &cells {
+        if cdt.triangulation().is_ghost(c) {
+            let k = component[c.index()] as usize;
+            if depth[k] == u32::MAX {
+                depth[k] = 0;
+                queue.push_back(k);
+            }
+        }
+    }
+    while let Some(k) = queue.pop_front() {
+        for &(_, y) in &adjacent[start[k]..start[k + 1]] {
+            if depth[y as usize] == u32::MAX {
+                depth[y as usize] = depth[k] + 1;
+                queue.push_back(y as usize);
+            }
+        }
+    }
+    let mut region: Vec<u32> = depth
+        .iter()
+        .map(|&d| if d % 2 == 1 { 0 } else { OUTSIDE })
+        .collect();
+    let mut attributes = vec![0.0];
+    let component_at = |cdt: &mut ConstrainedTriangulation2, p: [f64; 2]| match cdt.locate(p) {
+        Location::Cell(c) => Some(component[c.index()] as usize),
+        Location::Vertex(_) => None,
+    };
+    for (k, r) in plc.regions.iter().enumerate() {
+        if let Some(comp) = component_at(cdt, r.point) {
+            if depth[comp] > 0 {
+                region[comp] = attributes.len() as u32;
+            }
+        }
+        let _ = k;
+        attributes.push(r.attribute);
+    }
+    for &h in &plc.holes {
+        if let Some(comp) = component_at(cdt, h) {
+            region[comp] = OUTSIDE;
+        }
+    }
+    let mut any_inside = false;
+    for &c in &cells {
+        let mut tag = region[component[c.index()] as usize];
+        if cdt.triangulation().is_ghost(c) {
+            tag = OUTSIDE;
+        }
+        any_inside |= tag != OUTSIDE;
+        cdt.set_tag(c, tag);
+    }
+    if !any_inside {
+        return Err(RecoveryError::EmptyDomain);
+    }
+    Ok(attributes)
+}

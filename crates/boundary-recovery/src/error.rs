@@ -1,0 +1,69 @@
+//! Errors of boundary recovery. Points and segments are named in the input's numbering
+//! ([`crate::Plc2::first_index`]), so messages match the user's file.
+
+use delmesh_delaunay_core::TriangulationError;
+
+/// Why a [`crate::Plc2`] could not be meshed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RecoveryError {
+    /// A coordinate is NaN or infinite.
+    #[error("point {point}: coordinate is not finite")]
+    NonFinite {
+        /// The point.
+        point: u64,
+    },
+    /// A segment names a point that does not exist.
+    #[error("segment {segment}: point {point} does not exist ({n_points} points)")]
+    BadEndpoint {
+        /// The segment.
+        segment: u64,
+        /// The missing point's number.
+        point: u64,
+        /// How many points the input has.
+        n_points: usize,
+    },
+    /// A segment joins a point to itself (or to a duplicate of it).
+    #[error("segment {segment} has zero length (points {a} and {b} coincide)")]
+    ZeroLength {
+        /// The segment.
+        segment: u64,
+        /// First end.
+        a: u64,
+        /// Second end.
+        b: u64,
+    },
+    /// Two segments cross or overlap.
+    #[error("segments {first} and {second} intersect (they may only meet at shared end points)")]
+    Crossing {
+        /// One segment.
+        first: u64,
+        /// The other.
+        second: u64,
+    },
+    /// A hole or region seed is not finite.
+    #[error("{what} {index}: seed coordinates are not finite")]
+    BadSeed {
+        /// "hole" or "region".
+        what: &'static str,
+        /// Its number.
+        index: u64,
+    },
+    /// The points cannot be triangulated (too few, all collinear, bad range).
+    #[error(transparent)]
+    Triangulation(#[from] TriangulationError),
+    /// Recovery of a segment did not finish within the split budget (a bug in delmesh, or an
+    /// input beyond double precision, such as segments closer than 1e-300).
+    #[error("segment {segment} could not be recovered after {splits} splits")]
+    NotRecovered {
+        /// The input segment.
+        segment: u64,
+        /// Splits made on it.
+        splits: usize,
+    },
+    /// After removing the exterior and the holes nothing is left.
+    #[error(
+        "no element is inside the domain: the segments must form closed loops around it \
+         (or check the hole seeds)"
+    )]
+    EmptyDomain,
+}

@@ -1,0 +1,120 @@
+//! What a [`Mesh2`] reports: its elements (the cells inside the domain), their area, and flat
+//! arrays for writers and for smoothing.
+
+use crate::classify::OUTSIDE;
+use crate::recovery::Mesh2;
+use delmesh_delaunay_core::{CellId, VertexId};
+
+/// A mesh as flat arrays, vertices renumbered: input points first in input order, then the
+/// points added by recovery and generation in order of creation. Vertices used by no element
+/// (outside the domain, in holes, duplicates) are left out.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshArrays {
+    /// Vertex coordinates.
+    pub coords: Vec<[f64; 2]>,
+    /// Triangles, counter-clockwise.
+    pub triangles: Vec<[u32; 3]>,
+    /// Region attribute of each triangle.
+    pub regions: Vec<f64>,
+    /// Boundary marker of each vertex: the input point's marker if it has one, else the marker
+    /// of a boundary edge through it, else 0.
+    pub point_markers: Vec<i32>,
+    /// Whether each vertex is on the boundary (an end of a boundary edge): smoothing keeps these
+    /// fixed.
+    pub on_boundary: Vec<bool>,
+    /// Boundary edges.
+    pub edges: Vec<[u32; 2]>,
+    /// Marker of each boundary edge.
+    pub edge_markers: Vec<i32>,
+    /// The triangulation vertex of each output vertex.
+    pub vertex: Vec<VertexId>,
+}
+
+impl Mesh2 {
+    /// The elements: cells inside the domain.
+    pub fn elements(&self) -> impl Iterator<Item = CellId> + '_ {
+        self.cdt
+            .triangulation()
+            .cells()
+            .filter(|&c| self.cdt.tag(c) != OUTSIDE)
+    }
+
+    /// Number of elements.
+    pub fn num_elements(&self) -> usize {
+        self.elements().count()
+    }
+
+    /// Total area of the elements.
+    pub fn area(&self) -> f64 {
+        let tri = self.cdt.triangulation();
+        self.elements()
+            .map(|c| {
+                let v = tri.cell(c);
+                let (a, b, d) = (tri.vertex(v[0]), tri.vertex(v[1]), tri.vertex(v[2]));
+                0.5 * ((b[0] - a[0]) * (d[1] - a[1]) - (b[1] - a[1]) * (d[0] - a[0]))
+            })
+            .sum()
+    }
+
+    /// The mesh as flat arrays (see [`MeshArrays`]).
+    pub fn to_arrays(&self) -> MeshArrays {
+        let tri = self.cdt.triangulation();
+        let nv = tri.num_vertices();
+        let mut used = vec![false; nv];
+        for c in self.elements() {
+            for &v in tri.cell(c) {
+                used[v.index()] = true;
+            }
+        }
+        let mut order: Vec<VertexId> = (0..nv as u32)
+            .map(VertexId)
+            .filter(|v| used[v.index()])
+            .collect();
+        order.sort_by_key(|&v| tri.input_index(v));
+        let mut number = vec![u32::MAX; nv];
+        for (k, &v) in order.iter().enumerate() {
+            number[v.index()] = k as u32;
+        }
+        let mut out = MeshArrays {
+            coords: order.iter().map(|&v| tri.vertex(v)).collect(),
+            point_markers: vec![0; order.len()],
+            on_boundary: vec![false; order.len()],
+            vertex: order.clone(),
+            ..Default::default()
+        };
+        for c in self.elements() {
+            let v = tri.cell(c);
+            out.triangles.push([
+                number[v[0].index()],
+                number[v[1].index()],
+                number[v[2].index()],
+            ]);
+            let tag = self.cdt.tag(c) as usize;
+            out.regions
+                .push(self.region_attributes.get(tag).copied().unwrap_or(0.0));
+        }
+        for e in &self.edges {
+            let (a, b) = (number[e.a.index()], number[e.b.index()]);
+            if a == u32::MAX || b == u32::MAX {
+                continue; // an edge between two exterior regions
+            }
+            out.edges.push([a, b]);
+            out.edge_markers.push(e.marker);
+            for k in [a, b] {
+                out.on_boundary[k as usize] = true;
+                if out.point_markers[k as usize] == 0 {
+                    out.point_markers[k as usize] = e.marker;
+                }
+            }
+        }
+        for (k, &v) in order.iter().enumerate() {
+            let i = tri.input_index(v);
+            if let Some(&m) = self.point_markers.get(i) {
+                if m != 0 {
+                    out.point_markers[k] = m;
+                }
+            }
+        }
+        out
+    }
+}

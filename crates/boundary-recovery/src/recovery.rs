@@ -1,0 +1,597 @@
+//! [`BoundaryRecovery`]: from a [`Plc2`] to a boundary-conforming [`Mesh2`] (R4, R5, R8, R9).
+//!
+//! Three methods, all ending with every input segment present as a union of edges, those
+//! edges constrained (later insertions never cross or remove them), and the exterior classified:
+//! - [`RecoveryMethod::Stitch`], the paper's a-posteriori edge checking: triangulate the points,
+//!   insert the mid-point of every missing (sub)segment, repeat until none is missing.
+//!   A sub-segment with one end at an input vertex is split instead where a circle of radius
+//!   2^k (the power of two nearest its middle) around that vertex cuts it: the concentric shells
+//!   of Ruppert and Shewchuk. Segments meeting at a small angle are then split at equal
+//!   distances from their shared vertex and stop encroaching on each other, so the loop ends.
+//! - [`RecoveryMethod::APriori`], Weatherill's point per boundary edge: beside every boundary
+//!   edge, an interior point on the largest empty circle through the edge that is no larger than
+//!   the equilateral one, so the edge is Delaunay by construction. Edges whose circle cannot be
+//!   kept empty (tight corners) are left to stitching, which also repairs anything the new
+//!   points broke; the history shows how many.
+//! - [`RecoveryMethod::Constrained`], beyond the paper: missing segments are inserted by edge
+//!   flips, so no point is added on the boundary (a constrained Delaunay triangulation).
+
+use crate::check::{check, CheckedPlc};
+use crate::classify::{classify, OUTSIDE};
+use crate::error::RecoveryError;
+use crate::plc::Plc2;
+use delmesh_delaunay_core::{
+    ConstrainedTriangulation2, ConstraintError, Insertion, Triangulation2, VertexId,
+};
+use std::collections::HashMap;
+use std::fmt;
+
+/// How missing boundary segments are recovered.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RecoveryMethod {
+    /// Mid-point insertion until every segment is present (the paper's edge checking, R4).
+    #[default]
+    Stitch,
+    /// One interior point per boundary edge, then stitching for what is left (R5).
+    APriori,
+    /// Edge flips, no point added (constrained Delaunay).
+    Constrained,
+}
+
+/// One pass of recovery: the 2D analogue of the paper's Table 2.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RecoveryPass {
+    /// Vertices in the triangulation at the start of the pass.
+    pub points: usize,
+    /// Triangles (finite cells, exterior included) at the start of the pass.
+    pub triangles: usize,
+    /// Boundary edges (sub-segments) to be present.
+    pub boundary_edges: usize,
+    /// Of those, how many were missing.
+    pub missing: usize,
+    /// Points inserted in the pass (mid-points, shell points or a-priori points).
+    pub inserted: usize,
+}
+
+/// What recovery did: its passes, in order.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct RecoveryHistory {
+    /// The method used.
+    pub method: RecoveryMethod,
+    /// The passes.
+    pub passes: Vec<RecoveryPass>,
+    /// A-priori points placed (APriori only).
+    pub a_priori_points: usize,
+    /// Boundary edges for which no empty circle was found (APriori only).
+    pub a_priori_rejected: usize,
+}
+
+impl RecoveryHistory {
+    /// Points added on the boundary (by stitching) and beside it (a-priori), in total.
+    pub fn points_added(&self) -> usize {
+        self.passes.iter().map(|p| p.inserted).sum()
+    }
+}
+
+impl fmt::Display for RecoveryHistory {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "{:>5} {:>9} {:>10} {:>15} {:>8} {:>9}",
+            "pass", "points", "triangles", "boundary edges", "missing", "inserted"
+        )?;
+        for (k, p) in self.passes.iter().enumerate() {
+            writeln!(
+                f,
+                "{:>5} {:>9} {:>10} {:>15} {:>8} {:>9}",
+                k + 1,
+                p.points,
+                p.triangles,
+                p.boundary_edges,
+                p.missing,
+                p.inserted
+            )?;
+        }
+        if self.method == RecoveryMethod::APriori {
+            writeln!(
+                f,
+                "a-priori points: {} ({} edges left to stitching)",
+                self.a_priori_points, self.a_priori_rejected
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// A boundary edge of the mesh: a piece of an input segment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BoundaryEdge {
+    /// First end.
+    pub a: VertexId,
+    /// Second end.
+    pub b: VertexId,
+    /// The input segment's boundary marker.
+    pub marker: i32,
+    /// The input segment (0-based) it belongs to.
+    pub segment: u32,
+}
+
+/// A boundary-conforming triangulation of a [`Plc2`]: the value the later stages (point
+/// generation, smoothing, output) work on.
+///
+/// It keeps the whole triangulation of the convex hull; cells outside the domain are tagged
+/// [`OUTSIDE`] and never reported as elements, and the boundary edges are constrained, so points
+/// inserted inside the domain stay inside it.
+#[derive(Clone, Debug)]
+pub struct Mesh2 {
+    /// The triangulation with its constrained boundary edges; cell tags are region indices.
+    pub cdt: ConstrainedTriangulation2,
+    /// The boundary edges.
+    pub edges: Vec<BoundaryEdge>,
+    /// Spacing at each vertex (by vertex index), NaN where recovery knows none.
+    pub spacing: Vec<f64>,
+    /// Attribute of each region index (index 0: the default region, 0.0).
+    pub region_attributes: Vec<f64>,
+    /// Boundary marker of each input point (0 when none).
+    pub point_markers: Vec<i32>,
+    /// Number of input points (vertices with a smaller input index are input points).
+    pub n_input_points: usize,
+    /// The recovery passes.
+    pub history: RecoveryHistory,
+}
+
+/// Boundary recovery of a [`Plc2`]; see the module docs.
+#[derive(Clone, Debug, Default)]
+pub struct BoundaryRecovery {
+    method: RecoveryMethod,
+    extra_points: Vec<[f64; 2]>,
+}
+
+/// A piece of a checked segment while stitching.
+#[derive(Clone, Copy, Debug)]
+struct Sub {
+    a: VertexId,
+    b: VertexId,
+    segment: u32,
+}
+
+impl BoundaryRecovery {
+    /// Recovery with the given method.
+    pub fn new(method: RecoveryMethod) -> Self {
+        BoundaryRecovery {
+            method,
+            extra_points: Vec::new(),
+        }
+    }
+
+    /// Adds points from an external source (R9: e.g. the nodes of separate component meshes);
+    /// those that fall outside the domain are dropped with the exterior.
+    pub fn with_points(mut self, points: Vec<[f64; 2]>) -> Self {
+        self.extra_points = points;
+        self
+    }
+
+    /// Recovers the boundary of `plc` and classifies the exterior.
+    ///
+    /// # Errors
+    /// Invalid input (see [`RecoveryError`]), or a domain with no element inside.
+    pub fn run(&self, plc: &Plc2) -> Result<Mesh2, RecoveryError> {
+        let checked = check(plc)?;
+        let n_input = checked.points.len();
+        let mut points = checked.points.clone();
+        points.extend_from_slice(&self.extra_points);
+        if let Some(i) = self
+            .extra_points
+            .iter()
+            .position(|p| !p[0].is_finite() || !p[1].is_finite())
+        {
+            return Err(RecoveryError::NonFinite {
+                point: (n_input + i) as u64 + u64::from(plc.first_index),
+            });
+        }
+        let tri = Triangulation2::new(&points)?;
+        let mut history = RecoveryHistory {
+            method: self.method,
+            ..Default::default()
+        };
+        let mut state = State::new(tri, &checked, plc);
+        let cdt = match self.method {
+            RecoveryMethod::Stitch => {
+                state.stitch(&mut history)?;
+                state.constrain()?
+            }
+            RecoveryMethod::APriori => {
+                state.stitch(&mut history)?;
+                let mut cdt = state.constrain()?;
+                classify(&mut cdt, plc)?;
+                let placed = a_priori_points(&mut cdt, &state, &mut history);
+                state.tri = cdt.into_triangulation();
+                let before = state.pass(0);
+                for p in placed {
+                    state.add_vertex(p.point, p.spacing)?;
+                }
+                let mut pass = before;
+                pass.inserted = state.tri.num_vertices() - before.points;
+                history.passes.push(pass);
+                state.stitch(&mut history)?;
+                state.constrain()?
+            }
+            RecoveryMethod::Constrained => {
+                let mut cdt = ConstrainedTriangulation2::new(std::mem::replace(
+                    &mut state.tri,
+                    Triangulation2::new(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])?,
+                ));
+                let mut pass = state.pass_of(cdt.triangulation(), 0);
+                pass.missing = state
+                    .subs
+                    .iter()
+                    .filter(|s| cdt.find_edge(s.a, s.b).is_none())
+                    .count();
+                history.passes.push(pass);
+                for s in &state.subs {
+                    cdt.insert_segment(s.a, s.b)
+                        .map_err(|e| state.constraint_error(e, s.segment))?;
+                }
+                history.passes.push(state.pass_of(cdt.triangulation(), 0));
+                cdt
+            }
+        };
+        let mut cdt = cdt;
+        let region_attributes = classify(&mut cdt, plc)?;
+        let mut point_markers = plc.point_markers.clone();
+        point_markers.resize(n_input, 0);
+        let edges = state
+            .subs
+            .iter()
+            .map(|s| BoundaryEdge {
+                a: s.a,
+                b: s.b,
+                marker: checked.segments[s.segment as usize].marker,
+                segment: checked.origin[s.segment as usize],
+            })
+            .collect();
+        Ok(Mesh2 {
+            cdt,
+            edges,
+            spacing: state.spacing,
+            region_attributes,
+            point_markers,
+            n_input_points: n_input,
+            history,
+        })
+    }
+}
+
+/// Recovery in progress: the unconstrained triangulation and the sub-segments to be present.
+struct State<'a> {
+    tri: Triangulation2,
+    subs: Vec<Sub>,
+    checked: &'a CheckedPlc,
+    spacing: Vec<f64>,
+    /// Sub-segments shorter than this are a failure (beyond double precision).
+    shortest: f64,
+    plc: &'a Plc2,
+}
+
+impl<'a> State<'a> {
+    fn new(tri: Triangulation2, checked: &'a CheckedPlc, plc: &'a Plc2) -> Self {
+        let pts = &checked.points;
+        let v = |i: u32| tri.vertex_of_input(i as usize);
+        let subs: Vec<Sub> = checked
+            .segments
+            .iter()
+            .enumerate()
+            .map(|(k, s)| Sub {
+                a: v(s.a),
+                b: v(s.b),
+                segment: k as u32,
+            })
+            .collect();
+        // The paper's dp: mean length of the boundary segments at each boundary point.
+        let mut sum = vec![0.0f64; tri.num_vertices()];
+        let mut count = vec![0u32; tri.num_vertices()];
+        for s in &checked.segments {
+            let len = dist(pts[s.a as usize], pts[s.b as usize]);
+            for e in [s.a, s.b] {
+                let i = v(e).index();
+                sum[i] += len;
+                count[i] += 1;
+            }
+        }
+        let spacing = sum
+            .iter()
+            .zip(&count)
+            .map(|(&s, &c)| if c > 0 { s / f64::from(c) } else { f64::NAN })
+            .collect();
+        let (lo, hi) = pts.iter().fold(
+            ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
+            |(lo, hi), p| {
+                (
+                    [lo[0].min(p[0]), lo[1].min(p[1])],
+                    [hi[0].max(p[0]), hi[1].max(p[1])],
+                )
+            },
+        );
+        State {
+            tri,
+            subs,
+            checked,
+            spacing,
+            shortest: dist(lo, hi) * 2f64.powi(-44),
+            plc,
+        }
+    }
+
+    fn pass_of(&self, tri: &Triangulation2, inserted: usize) -> RecoveryPass {
+        RecoveryPass {
+            points: tri.num_vertices(),
+            triangles: tri.num_cells(),
+            boundary_edges: self.subs.len(),
+            missing: 0,
+            inserted,
+        }
+    }
+
+    fn pass(&self, inserted: usize) -> RecoveryPass {
+        self.pass_of(&self.tri, inserted)
+    }
+
+    fn is_input(&self, v: VertexId) -> bool {
+        self.tri.input_index(v) < self.checked.points.len()
+    }
+
+    /// Inserts a new vertex with a spacing value.
+    fn add_vertex(&mut self, p: [f64; 2], spacing: f64) -> Result<Option<VertexId>, RecoveryError> {
+        match self.tri.insert(p)? {
+            Insertion::Inserted(v) => {
+                if self.spacing.len() <= v.index() {
+                    self.spacing.resize(v.index() + 1, f64::NAN);
+                }
+                self.spacing[v.index()] = spacing;
+                Ok(Some(v))
+            }
+            Insertion::Duplicate(_) => Ok(None),
+        }
+    }
+
+    /// Mid-point / shell insertion until every sub-segment is present.
+    fn stitch(&mut self, history: &mut RecoveryHistory) -> Result<(), RecoveryError> {
+        loop {
+            let missing: Vec<usize> = (0..self.subs.len())
+                .filter(|&i| !self.tri.has_edge(self.subs[i].a, self.subs[i].b))
+                .collect();
+            let mut pass = self.pass(0);
+            pass.missing = missing.len();
+            if missing.is_empty() {
+                history.passes.push(pass);
+                return Ok(());
+            }
+            for &i in &missing {
+                let s = self.subs[i];
+                let (pa, pb) = (self.tri.vertex(s.a), self.tri.vertex(s.b));
+                let len = dist(pa, pb);
+                let seg = self.checked.segments[s.segment as usize];
+                if len < self.shortest {
+                    return Err(RecoveryError::NotRecovered {
+                        segment: u64::from(self.checked.origin[s.segment as usize])
+                            + u64::from(self.plc.first_index),
+                        splits: self.subs.iter().filter(|t| t.segment == s.segment).count(),
+                    });
+                }
+                let split = match (self.is_input(s.a), self.is_input(s.b)) {
+                    (true, false) => shell_point(pa, pb),
+                    (false, true) => shell_point(pb, pa),
+                    _ => [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])],
+                };
+                // Spacing along the input segment, linear between its ends' values.
+                let (qa, qb) = (
+                    self.checked.points[seg.a as usize],
+                    self.checked.points[seg.b as usize],
+                );
+                let t = (dist(qa, split) / dist(qa, qb)).clamp(0.0, 1.0);
+                let (da, db) = (
+                    self.spacing[self.tri.vertex_of_input(seg.a as usize).index()],
+                    self.spacing[self.tri.vertex_of_input(seg.b as usize).index()],
+                );
+                let Some(v) = self.add_vertex(split, da + t * (db - da))? else {
+                    return Err(RecoveryError::NotRecovered {
+                        segment: u64::from(self.checked.origin[s.segment as usize])
+                            + u64::from(self.plc.first_index),
+                        splits: 0,
+                    });
+                };
+                self.subs[i].b = v;
+                self.subs.push(Sub {
+                    a: v,
+                    b: s.b,
+                    segment: s.segment,
+                });
+                pass.inserted += 1;
+            }
+            history.passes.push(pass);
+        }
+    }
+
+    /// Wraps the triangulation (all sub-segments present) and constrains the sub-segments.
+    fn constrain(&mut self) -> Result<ConstrainedTriangulation2, RecoveryError> {
+        let tri = std::mem::replace(
+            &mut self.tri,
+            Triangulation2::new(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])?,
+        );
+        let mut cdt = ConstrainedTriangulation2::new(tri);
+        for s in &self.subs {
+            cdt.constrain_edge(s.a, s.b)
+                .map_err(|e| self.constraint_error(e, s.segment))?;
+        }
+        Ok(cdt)
+    }
+
+    /// An error of the constrained triangulation, in terms of input segments.
+    fn constraint_error(&self, e: ConstraintError, segment: u32) -> RecoveryError {
+        let base = u64::from(self.plc.first_index);
+        let name = |k: u32| u64::from(self.checked.origin[k as usize]) + base;
+        match e {
+            ConstraintError::CrossesConstraint { c, d, .. } => {
+                let other = self
+                    .subs
+                    .iter()
+                    .find(|s| (s.a == c && s.b == d) || (s.a == d && s.b == c))
+                    .map_or(name(segment), |s| name(s.segment));
+                RecoveryError::Crossing {
+                    first: name(segment).min(other),
+                    second: name(segment).max(other),
+                }
+            }
+            ConstraintError::Triangulation(t) => RecoveryError::Triangulation(t),
+            _ => RecoveryError::NotRecovered {
+                segment: name(segment),
+                splits: 0,
+            },
+        }
+    }
+}
+
+fn dist(p: [f64; 2], q: [f64; 2]) -> f64 {
+    (p[0] - q[0]).hypot(p[1] - q[1])
+}
+
+/// The point of `a b` at distance 2^k from the input vertex `a`, with 2^k in [L/3, 2L/3].
+fn shell_point(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    let len = dist(a, b);
+    let r = 2f64.powi((2.0 * len / 3.0).log2().floor() as i32);
+    let t = r / len;
+    [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+}
+
+/// An a-priori point and its spacing.
+struct Placed {
+    point: [f64; 2],
+    spacing: f64,
+}
+
+/// Weatherill's point per boundary edge (R5), for every side of every boundary edge that is
+/// inside the domain.
+fn a_priori_points(
+    cdt: &mut ConstrainedTriangulation2,
+    state: &State<'_>,
+    history: &mut RecoveryHistory,
+) -> Vec<Placed> {
+    // A hash grid of the vertices and of the points placed so far, so each new circle is
+    // checked against both.
+    let tri = cdt.triangulation();
+    let mut total = 0.0;
+    for s in &state.subs {
+        total += dist(tri.vertex(s.a), tri.vertex(s.b));
+    }
+    let cell = (total / state.subs.len().max(1) as f64).max(f64::MIN_POSITIVE);
+    let key = |p: [f64; 2]| ((p[0] / cell).floor() as i64, (p[1] / cell).floor() as i64);
+    let mut grid: HashMap<(i64, i64), Vec<[f64; 2]>> = HashMap::new();
+    for v in 0..tri.num_vertices() as u32 {
+        let p = tri.vertex(VertexId(v));
+        grid.entry(key(p)).or_default().push(p);
+    }
+    let mut placed = Vec::new();
+    for s in state.subs.clone() {
+        let Some((c, f)) = cdt.find_edge(s.a, s.b) else {
+            continue;
+        };
+        let tri = cdt.triangulation();
+        let across = tri.neighbor_facet(c, f).cell();
+        let (pa, pb) = (tri.vertex(s.a), tri.vertex(s.b));
+        // Which sides are inside: the cell on the left of a → b, and the one on the right.
+        let left_is_c = {
+            let cv = tri.cell(c);
+            let k = cv.iter().position(|&u| u == s.a).expect("edge in cell");
+            cv[(k + 1) % 3] == s.b
+        };
+        let (left, right) = if left_is_c { (c, across) } else { (across, c) };
+        let sides = [(left, 1.0), (right, -1.0)];
+        let spacing = 0.5 * (state.spacing_of(s.a) + state.spacing_of(s.b));
+        for (side_cell, sign) in sides {
+            let tag = cdt.tag(side_cell);
+            if tag == OUTSIDE {
+                continue;
+            }
+            let len = dist(pa, pb);
+            let m = [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])];
+            // Unit normal into this side (left of a → b for sign +1).
+            let n = [-sign * (pb[1] - pa[1]) / len, sign * (pb[0] - pa[0]) / len];
+            match empty_circle(&grid, cell, key, pa, pb, m, n, len) {
+                Some(q) if matches!(cdt.locate(q), delmesh_delaunay_core::Location::Cell(cq) if cdt.tag(cq) == tag) =>
+                {
+                    grid.entry(key(q)).or_default().push(q);
+                    placed.push(Placed {
+                        point: q,
+                        spacing: if spacing.is_finite() { spacing } else { len },
+                    });
+                    history.a_priori_points += 1;
+                }
+                _ => history.a_priori_rejected += 1,
+            }
+        }
+    }
+    placed
+}
+
+impl State<'_> {
+    fn spacing_of(&self, v: VertexId) -> f64 {
+        self.spacing.get(v.index()).copied().unwrap_or(f64::NAN)
+    }
+}
+
+/// The apex of the circle through `a b` whose centre is at signed distance `t` from the
+/// mid-point `m` along `n`, with `t` as close to the equilateral triangle's as the points in
+/// `grid` allow (none may be inside the circle); `None` if no such circle exists.
+#[allow(clippy::too_many_arguments)]
+fn empty_circle(
+    grid: &HashMap<(i64, i64), Vec<[f64; 2]>>,
+    cell: f64,
+    key: impl Fn([f64; 2]) -> (i64, i64),
+    a: [f64; 2],
+    b: [f64; 2],
+    m: [f64; 2],
+    n: [f64; 2],
+    len: f64,
+) -> Option<[f64; 2]> {
+    let target = len / (2.0 * 3f64.sqrt());
+    let (mut lo, mut hi) = (-len, target);
+    let reach = (len * len / 4.0 + len * len).sqrt();
+    let (k0, k1) = (
+        key([m[0] - reach, m[1] - reach]),
+        key([m[0] + reach, m[1] + reach]),
+    );
+    let _ = cell;
+    for i in k0.0..=k1.0 {
+        for j in k0.1..=k1.1 {
+            let Some(bucket) = grid.get(&(i, j)) else {
+                continue;
+            };
+            for &x in bucket {
+                if x == a || x == b {
+                    continue;
+                }
+                let d = [x[0] - m[0], x[1] - m[1]];
+                let s = d[0] * n[0] + d[1] * n[1];
+                let w = d[0] * d[0] + d[1] * d[1] - len * len / 4.0;
+                if s > 0.0 {
+                    hi = hi.min(w / (2.0 * s));
+                } else if s < 0.0 {
+                    lo = lo.max(w / (2.0 * s));
+                } else if w <= 0.0 {
+                    return None;
+                }
+            }
+        }
+    }
+    if lo >= hi {
+        return None;
+    }
+    // Keep a margin from the limiting points: they must stay strictly outside.
+    let t = if hi >= target {
+        target
+    } else {
+        hi - 0.1 * (hi - lo)
+    };
+    let h = t + (len * len / 4.0 + t * t).sqrt();
+    Some([m[0] + h * n[0], m[1] + h * n[1]])
+}

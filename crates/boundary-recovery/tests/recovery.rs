@@ -1,0 +1,374 @@
+//! Boundary recovery end to end: every input segment present, nothing outside the domain, the
+//! exact area, positive orientation and the (constrained) Delaunay property, for all methods.
+
+use delmesh_boundary_recovery::{
+    BoundaryRecovery, Mesh2, Plc2, RecoveryError, RecoveryMethod, RegionSeed, Segment,
+};
+use delmesh_predicates::{orient2d, Sign};
+use proptest::prelude::*;
+use rand::{rngs::StdRng, Rng, SeedableRng};
+use std::collections::HashMap;
+
+const METHODS: [RecoveryMethod; 3] = [
+    RecoveryMethod::Stitch,
+    RecoveryMethod::APriori,
+    RecoveryMethod::Constrained,
+];
+
+/// Closed loops → a PLC (each loop's points in order).
+fn plc_of(loops: &[Vec<[f64; 2]>]) -> Plc2 {
+    let mut plc = Plc2::default();
+    for (k, l) in loops.iter().enumerate() {
+        let base = plc.points.len() as u32;
+        plc.points.extend_from_slice(l);
+        let n = l.len() as u32;
+        for i in 0..n {
+            plc.segments.push(Segment {
+                a: base + i,
+                b: base + (i + 1) % n,
+                marker: k as i32 + 1,
+            });
+        }
+    }
+    plc
+}
+
+fn shoelace(l: &[[f64; 2]]) -> f64 {
+    let n = l.len();
+    (0..n)
+        .map(|i| {
+            let (p, q) = (l[i], l[(i + 1) % n]);
+            p[0] * q[1] - p[1] * q[0]
+        })
+        .sum::<f64>()
+        / 2.0
+}
+
+/// Winding number of `p` around the loop.
+fn winding(l: &[[f64; 2]], p: [f64; 2]) -> i32 {
+    let mut w = 0;
+    for i in 0..l.len() {
+        let (a, b) = (l[i], l[(i + 1) % l.len()]);
+        if a[1] <= p[1] {
+            if b[1] > p[1] && orient2d(a, b, p) == Sign::Positive {
+                w += 1;
+            }
+        } else if b[1] <= p[1] && orient2d(a, b, p) == Sign::Negative {
+            w -= 1;
+        }
+    }
+    w
+}
+
+/// Every check the issue lists, for a mesh of `loops` (outer loop first, holes after).
+fn check_mesh(mesh: &Mesh2, plc: &Plc2, loops: &[Vec<[f64; 2]>]) {
+    mesh.cdt.validate().unwrap();
+    let tri = mesh.cdt.triangulation();
+    // Every input segment is a chain of present, constrained edges from one end to the other.
+    let mut pieces: HashMap<u32, Vec<(usize, usize)>> = HashMap::new();
+    for e in &mesh.edges {
+        let (c, f) = mesh.cdt.find_edge(e.a, e.b).expect("boundary edge present");
+        assert!(mesh.cdt.is_constrained(c, f));
+        pieces
+            .entry(e.segment)
+            .or_default()
+            .push((e.a.index(), e.b.index()));
+    }
+    for (k, s) in plc.segments.iter().enumerate() {
+        let edges = &pieces[&(k as u32)];
+        let mut degree: HashMap<usize, u32> = HashMap::new();
+        for &(a, b) in edges {
+            *degree.entry(a).or_default() += 1;
+            *degree.entry(b).or_default() += 1;
+        }
+        let (va, vb) = (
+            tri.vertex_of_input(s.a as usize).index(),
+            tri.vertex_of_input(s.b as usize).index(),
+        );
+        assert_eq!(degree[&va], 1);
+        assert_eq!(degree[&vb], 1);
+        assert!(degree.iter().all(|(&v, &d)| d == 2 || v == va || v == vb));
+    }
+    // No element outside: each centroid is inside the outer loop and outside every hole.
+    let mut area = 0.0;
+    for c in mesh.elements() {
+        let v = tri.cell(c);
+        let p: Vec<[f64; 2]> = v.iter().map(|&u| tri.vertex(u)).collect();
+        assert_eq!(orient2d(p[0], p[1], p[2]), Sign::Positive);
+        let g = [
+            (p[0][0] + p[1][0] + p[2][0]) / 3.0,
+            (p[0][1] + p[1][1] + p[2][1]) / 3.0,
+        ];
+        assert_ne!(winding(&loops[0], g), 0, "element outside the domain");
+        for hole in &loops[1..] {
+            assert_eq!(winding(hole, g), 0, "element in a hole");
+        }
+        area += 0.5
+            * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+                - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]));
+    }
+    let exact: f64 =
+        shoelace(&loops[0]).abs() - loops[1..].iter().map(|l| shoelace(l).abs()).sum::<f64>();
+    assert!(
+        (area - exact).abs() <= 1e-12 * exact.abs(),
+        "area {area} vs exact {exact}"
+    );
+    assert!((mesh.area() - area).abs() <= 1e-12 * exact.abs());
+}
+
+fn square(c: [f64; 2], r: f64, ccw: bool) -> Vec<[f64; 2]> {
+    let mut l = vec![
+        [c[0] - r, c[1] - r],
+        [c[0] + r, c[1] - r],
+        [c[0] + r, c[1] + r],
+        [c[0] - r, c[1] + r],
+    ];
+    if !ccw {
+        l.reverse();
+    }
+    l
+}
+
+#[test]
+fn a_square_with_a_hole_by_nesting_and_by_seed() {
+    let loops = vec![
+        square([0.0, 0.0], 2.0, true),
+        square([0.0, 0.0], 1.0, false),
+    ];
+    let mut plc = plc_of(&loops);
+    for method in METHODS {
+        let mesh = BoundaryRecovery::new(method).run(&plc).unwrap();
+        check_mesh(&mesh, &plc, &loops);
+    }
+    plc.holes.push([0.0, 0.0]);
+    let mesh = BoundaryRecovery::new(RecoveryMethod::Stitch)
+        .run(&plc)
+        .unwrap();
+    check_mesh(&mesh, &plc, &loops);
+}
+
+/// A long thin quadrilateral with points close to its long edges: the Delaunay triangulation of
+/// its points misses edges, so recovery must add points (Figure 8).
+fn thin_domain() -> Vec<Vec<[f64; 2]>> {
+    // A slot whose long lower edge has a vertex of the slot's upper chain just above its middle
+    // and the tip of a small triangular hole just below it.
+    vec![
+        square([5.0, 5.0], 5.0, true),
+        vec![[1.0, 5.0], [1.0, 5.4], [5.0, 5.03], [9.0, 5.4], [9.0, 5.0]],
+        vec![[4.8, 4.5], [5.0, 4.97], [5.2, 4.5]],
+    ]
+}
+
+#[test]
+fn missing_edges_are_recovered_by_every_method() {
+    let loops = thin_domain();
+    let plc = plc_of(&loops);
+    for method in METHODS {
+        let mesh = BoundaryRecovery::new(method).run(&plc).unwrap();
+        check_mesh(&mesh, &plc, &loops);
+        let h = &mesh.history;
+        assert!(h.passes[0].missing > 0, "{method:?}: nothing was missing");
+        if method == RecoveryMethod::Constrained {
+            assert_eq!(h.points_added(), 0);
+            assert_eq!(mesh.cdt.triangulation().num_vertices(), plc.points.len());
+        } else {
+            assert!(h.points_added() > 0);
+        }
+        assert_eq!(h.passes.last().unwrap().missing, 0);
+    }
+}
+
+#[test]
+fn small_angles_terminate() {
+    // Segments from the origin at 1°, 2°, 4°, ... inside a box, plus points near them.
+    for deg in [1.0f64, 3.0, 10.0] {
+        let mut loops = vec![square([0.0, 0.0], 10.0, true)];
+        let mut plc = plc_of(&loops);
+        let o = plc.points.len() as u32;
+        plc.points.push([-9.0, -9.0]);
+        let mut angle = 0.0f64;
+        for k in 0..6 {
+            let (s, c) = angle.to_radians().sin_cos();
+            plc.points.push([-9.0 + 17.0 * c, -9.0 + 17.0 * s]);
+            plc.segments.push(Segment {
+                a: o,
+                b: o + 1 + k,
+                marker: 9,
+            });
+            angle += deg;
+        }
+        for method in METHODS {
+            let mesh = BoundaryRecovery::new(method).run(&plc).unwrap();
+            mesh.cdt.validate().unwrap();
+            check_mesh(&mesh, &plc, &loops);
+        }
+        loops.clear();
+    }
+}
+
+#[test]
+fn crossing_segments_are_named() {
+    let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
+    plc.first_index = 1;
+    plc.points
+        .extend([[-1.0, -1.0], [1.0, 1.0], [-1.0, 1.0], [1.0, -1.0]]);
+    plc.segments.push(Segment {
+        a: 4,
+        b: 5,
+        marker: 0,
+    });
+    plc.segments.push(Segment {
+        a: 6,
+        b: 7,
+        marker: 0,
+    });
+    let err = BoundaryRecovery::default().run(&plc).unwrap_err();
+    assert_eq!(
+        err,
+        RecoveryError::Crossing {
+            first: 5,
+            second: 6
+        }
+    );
+    assert_eq!(
+        err.to_string(),
+        "segments 5 and 6 intersect (they may only meet at shared end points)"
+    );
+}
+
+#[test]
+fn bad_input_is_reported() {
+    let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
+    plc.segments.push(Segment {
+        a: 0,
+        b: 9,
+        marker: 0,
+    });
+    assert!(matches!(
+        BoundaryRecovery::default().run(&plc),
+        Err(RecoveryError::BadEndpoint {
+            segment: 4,
+            point: 9,
+            ..
+        })
+    ));
+    let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
+    plc.points[1] = [f64::NAN, 0.0];
+    assert!(matches!(
+        BoundaryRecovery::default().run(&plc),
+        Err(RecoveryError::NonFinite { point: 1 })
+    ));
+    // An open polyline encloses nothing.
+    let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
+    plc.segments.pop();
+    assert_eq!(
+        BoundaryRecovery::default().run(&plc).unwrap_err(),
+        RecoveryError::EmptyDomain
+    );
+}
+
+#[test]
+fn a_point_on_a_segment_splits_it_and_duplicates_merge() {
+    let loops = vec![square([0.0, 0.0], 2.0, true)];
+    let mut plc = plc_of(&loops);
+    plc.points.push([0.0, -2.0]); // on the bottom edge
+    plc.points.push([2.0, 2.0]); // a duplicate corner
+    plc.segments.push(Segment {
+        a: 5,
+        b: 0,
+        marker: 0,
+    }); // repeats segment 3 (3 → 0)
+    plc.segments.pop();
+    let mesh = BoundaryRecovery::default().run(&plc).unwrap();
+    assert_eq!(mesh.area(), 16.0);
+    let a = mesh.to_arrays();
+    assert!(a.coords.contains(&[0.0, -2.0]));
+    assert_eq!(a.edges.len(), 5);
+}
+
+#[test]
+fn regions_get_their_attributes_and_a_wake_line_is_kept() {
+    // A square split in two by a vertical segment, plus an open "wake" line in the right half.
+    let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
+    plc.points
+        .extend([[0.0, -2.0], [0.0, 2.0], [0.5, 0.0], [1.5, 0.0]]);
+    plc.segments.push(Segment {
+        a: 4,
+        b: 5,
+        marker: 7,
+    });
+    plc.segments.push(Segment {
+        a: 6,
+        b: 7,
+        marker: 8,
+    });
+    plc.regions.push(RegionSeed {
+        point: [-1.0, 0.5],
+        attribute: 3.0,
+        max_area: None,
+    });
+    for method in METHODS {
+        let mesh = BoundaryRecovery::new(method).run(&plc).unwrap();
+        mesh.cdt.validate().unwrap();
+        let a = mesh.to_arrays();
+        let area_of = |attr: f64| -> f64 {
+            a.triangles
+                .iter()
+                .zip(&a.regions)
+                .filter(|(_, &r)| r == attr)
+                .map(|(t, _)| {
+                    let p = t.map(|v| a.coords[v as usize]);
+                    0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+                        - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]))
+                })
+                .sum()
+        };
+        assert_eq!(area_of(3.0), 8.0, "{method:?}");
+        assert_eq!(area_of(0.0), 8.0, "{method:?}");
+        assert!(a.edge_markers.contains(&8));
+    }
+}
+
+/// A star-shaped loop around `c` with `n` random radii in `[r0, r1]`.
+fn star(rng: &mut StdRng, c: [f64; 2], n: usize, r0: f64, r1: f64, ccw: bool) -> Vec<[f64; 2]> {
+    let mut l: Vec<[f64; 2]> = (0..n)
+        .map(|i| {
+            // Angular gaps stay below 180° (n ≥ 5), so the loop surrounds its centre.
+            let t = std::f64::consts::TAU * (i as f64 + rng.gen_range(0.0..0.5)) / n as f64;
+            let r = rng.gen_range(r0..r1);
+            [c[0] + r * t.cos(), c[1] + r * t.sin()]
+        })
+        .collect();
+    if !ccw {
+        l.reverse();
+    }
+    l
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+    #[test]
+    fn random_polygons_with_holes(seed in 0u64..10_000, n in 5usize..60, holes in 0usize..4, seeds in any::<bool>()) {
+        let mut rng = StdRng::seed_from_u64(seed);
+        let mut loops = vec![star(&mut rng, [0.0, 0.0], n, 5.0, 10.0, true)];
+        let mut centres: Vec<[f64; 2]> = Vec::new();
+        while centres.len() < holes {
+            let c = [rng.gen_range(-2.5..2.5), rng.gen_range(-2.5..2.5)];
+            if centres.iter().all(|d| (c[0] - d[0]).hypot(c[1] - d[1]) > 2.2) {
+                centres.push(c);
+            }
+        }
+        for &c in &centres {
+            let m = rng.gen_range(5..12);
+            loops.push(star(&mut rng, c, m, 0.2, 1.0, false));
+        }
+        let mut plc = plc_of(&loops);
+        if seeds {
+            plc.holes = centres.clone();
+        }
+        for method in METHODS {
+            let mesh = BoundaryRecovery::new(method).run(&plc).unwrap();
+            check_mesh(&mesh, &plc, &loops);
+        }
+    }
+}
