@@ -192,7 +192,8 @@ impl ConstrainedTriangulation2 {
     /// Bad coordinates (as [`Triangulation::insert`]), or a point outside the convex hull or on
     /// a hull edge (mesh generation only inserts inside the domain).
     pub fn insert(&mut self, point: [f64; 2]) -> Result<Insertion, ConstraintError> {
-        self.insert_where(point, |_, _| true)
+        let hint = self.tri.last;
+        self.insert_where(point, hint, |_, _| true)
             .map(|i| i.expect("insertion accepted everywhere"))
     }
 
@@ -207,9 +208,33 @@ impl ConstrainedTriangulation2 {
         point: [f64; 2],
         tag: u32,
     ) -> Result<Option<Insertion>, ConstraintError> {
-        self.insert_where(point, |cdt, (c, on_edge)| {
+        let hint = self.tri.last;
+        self.insert_where(point, hint, |cdt, (c, on_edge)| {
             cdt.tags[c.index()] == tag && on_edge.is_none_or(|i| !cdt.is_constrained(c, i))
         })
+    }
+
+    /// Inserts `point` if `accept(self, cell, edge)` agrees, where `cell` is the finite cell
+    /// containing it and `edge` the local index of the edge it lies on, if any; `Ok(None)`
+    /// otherwise. The walk starts at `hint` (a cell near the point makes it short). Cell slots
+    /// are never freed by this type's operations, so an old cell id is always a valid hint.
+    ///
+    /// # Errors
+    /// As [`Self::insert`].
+    pub fn insert_near_if(
+        &mut self,
+        point: [f64; 2],
+        hint: CellId,
+        accept: impl Fn(&Self, CellId, Option<usize>) -> bool,
+    ) -> Result<Option<Insertion>, ConstraintError> {
+        let hint = if hint.index() < self.tri.simplices.len()
+            && self.tri.simplices[hint.index()].v[0] != VertexId::DEAD
+        {
+            hint
+        } else {
+            self.tri.last
+        };
+        self.insert_where(point, hint, |cdt, (c, e)| accept(cdt, c, e))
     }
 
     /// Locates `point` (caller's coordinates): the cell containing it or the vertex at it.
@@ -220,11 +245,12 @@ impl ConstrainedTriangulation2 {
     fn insert_where(
         &mut self,
         point: [f64; 2],
+        hint: CellId,
         accept: impl Fn(&Self, (CellId, Option<usize>)) -> bool,
     ) -> Result<Option<Insertion>, ConstraintError> {
         let input = self.tri.vertex_of_input.len();
         let p = self.tri.scaled_input(point)?;
-        let c = match self.tri.locate_from(p, self.tri.last) {
+        let c = match self.tri.locate_from(p, hint) {
             Location::Vertex(v) => {
                 self.tri.vertex_of_input.push(v);
                 let original = self.tri.input_index[v.index()] as usize;

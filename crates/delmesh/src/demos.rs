@@ -8,14 +8,28 @@
 //! | demo | paper | output |
 //! | --- | --- | --- |
 //! | `figure1` | Fig. 1, Table 1 | Table 1 (Voronoi vertices, forming points, neighbours); `figure1.vtu`, `figure1-voronoi.vtu` |
-//! | `random2d` | Fig. 4 | `random2d.vtu`, `random2d-voronoi.vtu`: 1000 seeded random points |
+//! | `figure4` | Fig. 4 | `figure4.vtu`, `figure4-voronoi.vtu`: 1000 seeded random points (alias `random2d`) |
+//! | `figure8` | Fig. 5, 8 | a small PSLG whose edges are missing, recovered by mid-points: the recovery passes; `figure8-delaunay.svg` (before), `figure8.svg`/`.vtu` (after) |
+//! | `figure7` | Fig. 7 | estuary coastline with islands: a-priori method, automatic points, smoothing |
+//! | `figure10a` | Fig. 10a | two-element aerofoil meshed with the points of component meshes (R9) |
+//! | `figure10b` | Fig. 10b | two-element aerofoil with automatic points (R10) |
+//! | `figure11` | Fig. 11 | the point-generation passes on the aerofoil: `figure11-pass1.svg`, ... |
+//! | `figure12` | Fig. 12 | rectangle clustered along its diagonal BD by a 2-triangle background mesh (R11) |
+//! | `figure13` | Fig. 13 | a background mesh spelling "CFD" (R11) |
+//!
+//! Each mesh demo writes `NAME.vtu` and `NAME.svg` and prints the run's summary (recovery and
+//! generation passes, quality, time per stage).
 
 use std::path::{Path, PathBuf};
 
 use delmesh_io::{IoError, PointSet};
 
 use crate::delaunay::DelaunayRun;
-use crate::Error;
+use crate::geometry;
+use crate::mesh2d::{mesh_plc, MeshOptions2, MeshRun2, Spacing};
+use crate::point_gen::PointGeneration;
+use crate::recovery::{Plc2, RecoveryMethod};
+use crate::{Error, Triangulation2};
 
 /// The nine points of the paper's Figure 1 (`data/figure1.node`), built into the binary.
 pub const FIGURE1_NODE: &str = include_str!("../../../data/figure1.node");
@@ -42,20 +56,57 @@ pub const DEMOS: &[Demo] = &[
                   prints Table 1 (Voronoi vertices, forming points, neighbours)",
     },
     Demo {
-        name: "random2d",
+        name: "figure4",
         summary: "Fig. 4: 2D Delaunay triangulation and Voronoi cells of 1000 seeded random points",
     },
+    Demo {
+        name: "figure8",
+        summary: "Fig. 5/8: boundary edges missing from the Delaunay triangulation, recovered by \
+                  mid-point insertion pass by pass",
+    },
+    Demo {
+        name: "figure7",
+        summary: "Fig. 7: estuary coastline with islands; a-priori boundary points, automatic \
+                  points, smoothing",
+    },
+    Demo {
+        name: "figure10a",
+        summary: "Fig. 10a: two-element aerofoil meshed with the points of component meshes",
+    },
+    Demo {
+        name: "figure10b",
+        summary: "Fig. 10b: two-element aerofoil with automatic point generation and smoothing",
+    },
+    Demo {
+        name: "figure11",
+        summary: "Fig. 11: the automatic point-generation passes on the aerofoil, one picture \
+                  per pass",
+    },
+    Demo {
+        name: "figure12",
+        summary: "Fig. 12: rectangle with clustering along the diagonal BD from a 2-triangle \
+                  background mesh",
+    },
+    Demo {
+        name: "figure13",
+        summary: "Fig. 13: a background mesh spelling \"CFD\" drives the spacing",
+    },
 ];
+
+/// Points per aerofoil element in the aerofoil demos (the mesh has about 50,000 triangles).
+pub const AEROFOIL_POINTS: usize = 600;
 
 /// What a demo produced.
 #[derive(Clone, Debug)]
 pub struct DemoOutput {
-    /// The triangulation built.
-    pub run: DelaunayRun,
-    /// Text to print (the `figure1` table), if the demo has any.
+    /// One-line summary (points, cells, time).
+    pub summary: String,
+    /// Text to print (Table 1, or a mesh run's passes and quality), if the demo has any.
     pub table: Option<String>,
     /// The files written, in order.
     pub written: Vec<PathBuf>,
+    /// The mesh run, for the mesh-generation demos.
+    pub mesh: Option<MeshRun2>,
 }
 
 /// Runs demo `name`, writing its files into `dir` (created if missing).
@@ -64,13 +115,79 @@ pub struct DemoOutput {
 /// [`Error::UnknownDemo`] for a name not in [`DEMOS`]; [`Error::Io`] if `dir` or a file cannot
 /// be written.
 pub fn run(name: &str, dir: &Path) -> Result<DemoOutput, Error> {
-    let (run, table) = match name {
-        "figure1" => {
-            let run = figure1()?;
-            let table = run.voronoi_table();
-            (run, Some(table))
+    let known = DEMOS.iter().any(|d| d.name == name) || name == "random2d";
+    if !known {
+        return Err(Error::UnknownDemo {
+            name: name.to_string(),
+            available: DEMOS.iter().map(|d| d.name).collect::<Vec<_>>().join(", "),
+        });
+    }
+    std::fs::create_dir_all(dir).map_err(|source| IoError::Io {
+        file: dir.to_path_buf(),
+        source,
+    })?;
+    match name {
+        "figure1" | "figure4" | "random2d" => {
+            let name = if name == "random2d" { "figure4" } else { name };
+            let (run, table) = if name == "figure1" {
+                let run = figure1()?;
+                let table = run.voronoi_table();
+                (run, Some(table))
+            } else {
+                (random2d()?, None)
+            };
+            let mut written = run.write(&dir.join(format!("{name}.vtu")))?;
+            let voronoi = dir.join(format!("{name}-voronoi.vtu"));
+            run.write_voronoi(&voronoi)?;
+            written.push(voronoi);
+            Ok(DemoOutput {
+                summary: format!(
+                    "{name}: {} points, {} cells, built in {:.6} s",
+                    run.num_input_points(),
+                    run.num_cells(),
+                    run.build_seconds
+                ),
+                table,
+                written,
+                mesh: None,
+            })
         }
-        "random2d" => (random2d()?, None),
+        _ => mesh_demo(name, dir),
+    }
+}
+
+/// The [`Plc2`] and options of mesh demo `name`.
+///
+/// # Errors
+/// [`Error::UnknownDemo`] for a name that is not a mesh demo.
+pub fn mesh_demo_setup(name: &str) -> Result<(Plc2, MeshOptions2), Error> {
+    let mut options = MeshOptions2::default();
+    let plc = match name {
+        "figure8" => {
+            options.generation = None;
+            options.smoothing = None;
+            geometry::figure8()
+        }
+        "figure7" => {
+            options.recovery = RecoveryMethod::APriori;
+            geometry::coastline()
+        }
+        "figure10a" => {
+            options.generation = None;
+            options.extra_points = geometry::component_mesh_points(AEROFOIL_POINTS);
+            geometry::two_element_aerofoil(AEROFOIL_POINTS)
+        }
+        "figure10b" | "figure11" => geometry::two_element_aerofoil(AEROFOIL_POINTS),
+        "figure12" => {
+            let (plc, background) = geometry::figure12();
+            options.spacing = Spacing::Background(background);
+            plc
+        }
+        "figure13" => {
+            let (plc, background) = geometry::figure13_cfd();
+            options.spacing = Spacing::Background(background);
+            plc
+        }
         _ => {
             return Err(Error::UnknownDemo {
                 name: name.to_string(),
@@ -78,18 +195,61 @@ pub fn run(name: &str, dir: &Path) -> Result<DemoOutput, Error> {
             })
         }
     };
-    std::fs::create_dir_all(dir).map_err(|source| IoError::Io {
-        file: dir.to_path_buf(),
-        source,
-    })?;
-    let mut written = run.write(&dir.join(format!("{name}.vtu")))?;
-    let voronoi = dir.join(format!("{name}-voronoi.vtu"));
-    run.write_voronoi(&voronoi)?;
-    written.push(voronoi);
+    Ok((plc, options))
+}
+
+fn mesh_demo(name: &str, dir: &Path) -> Result<DemoOutput, Error> {
+    let (plc, options) = mesh_demo_setup(name)?;
+    let mut written = Vec::new();
+    if name == "figure8" {
+        // The Delaunay triangulation of the boundary points, before recovery (Fig. 5).
+        let tri = Triangulation2::new(&plc.points).map_err(|e| Error::Internal(e.to_string()))?;
+        let coords: Vec<f64> = (0..plc.points.len())
+            .flat_map(|i| tri.vertex(tri.vertex_of_input(i)))
+            .collect();
+        let cells = tri.cells_in_input_numbering();
+        let edges: Vec<[u32; 2]> = plc.segments.iter().map(|s| [s.a, s.b]).collect();
+        let markers: Vec<i32> = plc.segments.iter().map(|s| s.marker).collect();
+        let path = dir.join("figure8-delaunay.svg");
+        delmesh_io::write_svg(
+            &path,
+            &delmesh_io::SvgMesh {
+                coords: &coords,
+                triangles: &cells,
+                segments: &edges,
+                segment_markers: &markers,
+                cell_values: None,
+            },
+            &delmesh_io::SvgOptions::default(),
+        )?;
+        written.push(path);
+    }
+    if name == "figure11" {
+        // The mesh after 1, 2, 4 and 8 passes of point generation (no smoothing).
+        for passes in [1, 2, 4, 8] {
+            let mut opts = options.clone();
+            opts.smoothing = None;
+            opts.generation = opts.generation.map(|g| PointGeneration {
+                max_passes: passes,
+                ..g
+            });
+            let run = mesh_plc(&plc, &opts)?;
+            written.extend(run.write(&dir.join(format!("figure11-pass{passes}.svg")))?);
+        }
+    }
+    let run = mesh_plc(&plc, &options)?;
+    written.extend(run.write(&dir.join(format!("{name}.vtu")))?);
+    written.extend(run.write(&dir.join(format!("{name}.svg")))?);
+    let total: f64 = run.timings.iter().map(|t| t.1).sum();
     Ok(DemoOutput {
-        run,
-        table,
+        summary: format!(
+            "{name}: {} points, {} triangles in {total:.6} s",
+            run.arrays.coords.len(),
+            run.arrays.triangles.len()
+        ),
+        table: Some(run.summary()),
         written,
+        mesh: Some(run),
     })
 }
 

@@ -8,8 +8,11 @@
 
 use std::path::{Path, PathBuf};
 
+use delmesh_boundary_recovery::RecoveryError;
 use delmesh_delaunay_core::TriangulationError;
 use delmesh_io::IoError;
+use delmesh_point_gen::{PointGenError, SpacingError};
+use delmesh_smoothing::SmoothError;
 
 /// Everything that can go wrong in the `delmesh` library.
 #[derive(Debug, thiserror::Error)]
@@ -61,6 +64,37 @@ pub enum Error {
         /// The output file that is the same file.
         output: PathBuf,
     },
+    /// The input domain cannot be meshed (crossing segments, bad seeds, nothing inside...);
+    /// points and segments are named in the input's numbering.
+    #[error(transparent)]
+    Recovery(#[from] RecoveryError),
+    /// Automatic point generation failed (bad α or spacing).
+    #[error(transparent)]
+    PointGeneration(#[from] PointGenError),
+    /// A background mesh or solution file does not define a valid spacing field.
+    #[error("{file}: {source}", file = .file.display())]
+    Spacing {
+        /// The background mesh file.
+        file: PathBuf,
+        /// What is wrong with it.
+        source: SpacingError,
+    },
+    /// A background or solution file lacks the point field asked for.
+    #[error("{file}: no point field '{field}' (fields: {available})", file = .file.display())]
+    MissingField {
+        /// The file.
+        file: PathBuf,
+        /// The field asked for.
+        field: String,
+        /// The fields it has, comma-separated.
+        available: String,
+    },
+    /// Smoothing options are invalid or its input is inconsistent.
+    #[error(transparent)]
+    Smoothing(#[from] SmoothError),
+    /// A broken internal invariant (a bug in delmesh).
+    #[error("internal error (a bug in delmesh): {0}")]
+    Internal(String),
     /// `delmesh demo NAME` with a name that is not a demo.
     #[error("unknown demo '{name}' (available: {available})")]
     UnknownDemo {
@@ -107,7 +141,12 @@ impl Error {
             | Error::UnsupportedFormat { file, .. }
             | Error::Dimension { file, .. } => Some(file),
             Error::OverwritesInput { output, .. } => Some(output),
-            Error::UnknownDemo { .. } => None,
+            Error::Spacing { file, .. } | Error::MissingField { file, .. } => Some(file),
+            Error::UnknownDemo { .. }
+            | Error::Recovery(_)
+            | Error::PointGeneration(_)
+            | Error::Smoothing(_)
+            | Error::Internal(_) => None,
         }
     }
 }

@@ -19,8 +19,11 @@
 //! ```
 #![forbid(unsafe_code)]
 
+pub use delmesh_boundary_recovery as recovery;
 pub use delmesh_delaunay_core as core;
 pub use delmesh_io as io;
+pub use delmesh_point_gen as point_gen;
+pub use delmesh_smoothing as smoothing;
 
 pub use delmesh_delaunay_core::{
     Triangulation, Triangulation2, Triangulation3, TriangulationError, VoronoiDiagram, D2, D3,
@@ -29,7 +32,8 @@ pub use delmesh_io::{IoError, PointSet};
 
 pub mod delaunay;
 pub mod demos;
-pub mod geometry;
 mod error;
+pub mod geometry;
+pub mod mesh2d;
 
 pub use error::Error;

@@ -11,11 +11,15 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Result;
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use delmesh::delaunay::{
     check_not_input, check_output_dir, triangulate_file, DelaunayRun, OutputFormat,
 };
 use delmesh::demos;
+use delmesh::mesh2d::{self, MeshOptions2, Spacing};
+use delmesh::point_gen::{Adaptation, PointGeneration};
+use delmesh::recovery::RecoveryMethod;
+use delmesh::smoothing::Smoother;
 
 /// How many duplicate pairs the summary lists.
 const DUPLICATES_SHOWN: usize = 5;
@@ -32,8 +36,88 @@ struct Cli {
 enum Command {
     /// Delaunay triangulation (2D) or tetrahedralisation (3D) of a point file.
     Delaunay(DelaunayArgs),
+    /// Mesh a 2D domain (Triangle .poly): boundary recovery, exterior deletion, automatic
+    /// points, smoothing (the paper's whole method).
+    Mesh(MeshArgs),
     /// Reproduce a figure of the paper; without NAME, list the demos.
     Demo(DemoArgs),
+}
+
+/// How boundary segments missing from the Delaunay triangulation are recovered.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum RecoveryArg {
+    /// Insert mid-points of missing segments until all are present (the paper's R4).
+    Stitch,
+    /// One interior point per boundary edge first, then stitching (R5).
+    APriori,
+    /// Edge flips, no point added on the boundary (constrained Delaunay).
+    Constrained,
+}
+
+#[derive(Args, Debug)]
+struct MeshArgs {
+    /// The domain: a Triangle .poly file (points, segments with markers, holes, regions).
+    #[arg(value_name = "INPUT")]
+    input: PathBuf,
+    /// Output file(s), by extension: .vtu (ParaView), .ele (Triangle .node/.ele/.edge with
+    /// markers), .svg (a picture). Repeat for several.
+    #[arg(short, long, value_name = "OUT", required = true)]
+    output: Vec<PathBuf>,
+    /// Boundary recovery method.
+    #[arg(long, value_enum, default_value = "stitch")]
+    recovery: RecoveryArg,
+    /// Point density: a candidate must be farther than alpha·spacing from the element's nodes.
+    #[arg(long, default_value_t = 1.0)]
+    alpha: f64,
+    /// Add at most this many points automatically.
+    #[arg(long, value_name = "N")]
+    max_points: Option<usize>,
+    /// No automatic points: mesh the boundary (and --points) only.
+    #[arg(long)]
+    no_points: bool,
+    /// Extra points to triangulate with the boundary (.node or plain text); points outside the
+    /// domain are dropped (the paper's points from component meshes).
+    #[arg(long, value_name = "FILE")]
+    points: Option<PathBuf>,
+    /// Background mesh giving the spacing: a .vtu with a point field (see --field) or a
+    /// Triangle .ele whose .node has one attribute.
+    #[arg(long, value_name = "MESH", conflicts_with = "adapt")]
+    background: Option<PathBuf>,
+    /// Adapt to a previous solution: a .vtu mesh whose point field --field (e.g. pressure or
+    /// Mach) is turned into spacing by its gradient, between --min-spacing and --max-spacing.
+    #[arg(long, value_name = "MESH", requires_all = ["min_spacing", "max_spacing"])]
+    adapt: Option<PathBuf>,
+    /// The point field of --background (default `spacing`) or --adapt.
+    #[arg(long, value_name = "NAME")]
+    field: Option<String>,
+    /// Smallest spacing of --adapt.
+    #[arg(long, value_name = "H")]
+    min_spacing: Option<f64>,
+    /// Largest spacing of --adapt.
+    #[arg(long, value_name = "H")]
+    max_spacing: Option<f64>,
+    /// Smoothing relaxation factor ω (paper: 0.05–0.25).
+    #[arg(long, default_value_t = 0.2)]
+    omega: f64,
+    /// Smoothing passes N (paper: 20–50).
+    #[arg(long, default_value_t = 30)]
+    iterations: usize,
+    /// No smoothing.
+    #[arg(long)]
+    no_smoothing: bool,
+    /// Keep the smoothed connectivity (no Delaunay edge flips after smoothing).
+    #[arg(long)]
+    no_flips: bool,
+    /// Write the run's report (passes, quality, time per stage) as JSON.
+    #[arg(long, value_name = "FILE.json")]
+    report: Option<PathBuf>,
+    /// Check the mesh exactly (adjacency, orientation, constrained Delaunay) and print
+    /// `validation: ok`.
+    #[arg(long)]
+    validate: bool,
+    /// Print only the `mesh time:` line.
+    #[arg(short, long)]
+    quiet: bool,
 }
 
 #[derive(Args, Debug)]
@@ -82,6 +166,7 @@ fn main() -> ExitCode {
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Delaunay(args) => delaunay(&args),
+        Command::Mesh(args) => mesh(&args),
         Command::Demo(args) => demo(&args),
     }
 }
@@ -203,12 +288,100 @@ fn demo(args: &DemoArgs) -> Result<()> {
     if let Some(table) = &out.table {
         print_stdout(table)?;
     }
-    eprintln!(
-        "{name}: {} points, {} cells, built in {:.6} s",
-        out.run.num_input_points(),
-        out.run.num_cells(),
-        out.run.build_seconds
-    );
+    eprintln!("{}", out.summary);
     print_written(&out.written);
+    Ok(())
+}
+
+fn mesh(args: &MeshArgs) -> Result<()> {
+    for out in &args.output {
+        if !matches!(
+            out.extension().and_then(|e| e.to_str()),
+            Some("vtu" | "ele" | "svg")
+        ) {
+            anyhow::bail!(
+                "{}: unsupported output format (supported: {})",
+                out.display(),
+                mesh2d::MESH_OUTPUTS
+            );
+        }
+        check_output_dir(out)?;
+    }
+    check_not_input(&args.input, &args.output)?;
+    let plc = mesh2d::read_plc(&args.input)?;
+    let mut options = MeshOptions2 {
+        recovery: match args.recovery {
+            RecoveryArg::Stitch => RecoveryMethod::Stitch,
+            RecoveryArg::APriori => RecoveryMethod::APriori,
+            RecoveryArg::Constrained => RecoveryMethod::Constrained,
+        },
+        ..MeshOptions2::default()
+    };
+    if let Some(path) = &args.points {
+        let pts = delmesh::io::read_points(path)?;
+        options.extra_points = (0..pts.len()).map(|i| pts.point2(i)).collect();
+    }
+    options.generation = (!args.no_points).then(|| PointGeneration {
+        alpha: args.alpha,
+        max_points: args.max_points.unwrap_or(usize::MAX),
+        ..PointGeneration::default()
+    });
+    if let Some(path) = &args.background {
+        options.spacing =
+            Spacing::Background(mesh2d::read_background(path, args.field.as_deref())?);
+    }
+    if let Some(path) = &args.adapt {
+        let field = args
+            .field
+            .as_deref()
+            .ok_or_else(|| anyhow::anyhow!("--adapt needs --field NAME (the solution field)"))?;
+        let adaptation = Adaptation::new(
+            args.min_spacing.unwrap_or_default(),
+            args.max_spacing.unwrap_or_default(),
+        );
+        options.spacing = Spacing::Background(mesh2d::read_adaptation(path, field, &adaptation)?);
+    }
+    options.smoothing = if args.no_smoothing {
+        None
+    } else {
+        Some(
+            Smoother::new()
+                .omega(args.omega)?
+                .iterations(args.iterations),
+        )
+    };
+    options.delaunay_flips = !args.no_flips;
+    let run = mesh2d::mesh_plc(&plc, &options)
+        .map_err(|e| anyhow::anyhow!("{}: {}", args.input.display(), e))?;
+    let total: f64 = run.timings.iter().map(|t| t.1).sum();
+    if args.quiet {
+        eprintln!("mesh time: {total:.6} s");
+    } else {
+        eprint!("input: {}\n{}", args.input.display(), run.summary());
+    }
+    if args.validate {
+        run.mesh
+            .cdt
+            .validate()
+            .map_err(|e| anyhow::anyhow!("{}: validation failed: {e}", args.input.display()))?;
+        eprintln!("validation: ok");
+    }
+    let mut written = Vec::new();
+    for out in &args.output {
+        written.extend(run.write(out)?);
+    }
+    if let Some(report) = &args.report {
+        delmesh::io::write_atomic(report, |w| {
+            w.write_all(run.report_json().as_bytes())
+                .map_err(|e| delmesh::io::IoError::Io {
+                    file: report.clone(),
+                    source: e,
+                })
+        })?;
+        written.push(report.clone());
+    }
+    if !args.quiet {
+        print_written(&written);
+    }
     Ok(())
 }

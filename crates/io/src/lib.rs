@@ -9,7 +9,10 @@
 //! | TetGen/Triangle `.node` | [`read_node`], [`parse_node`] | [`write_node`] |
 //! | TetGen/Triangle `.ele`, `.neigh` | | [`write_ele`], [`write_neigh`], [`write_tetgen_family`] |
 //! | plain text `x y [z]` | [`read_xyz`], [`parse_xyz`] | |
-//! | VTK XML `.vtu` | | [`write_vtu`], [`write_vtu_polygons`] |
+//! | VTK XML `.vtu` | [`read_vtu`] (triangles/tetrahedra + point fields) | [`write_vtu`], [`write_vtu_polygons`] |
+//! | Triangle `.poly` (2D PSLG) | [`read_poly`], [`parse_poly`] | [`write_poly`] |
+//! | Triangle `.node/.ele/.edge` with markers | [`read_triangle_mesh`] | [`write_triangle_family`] |
+//! | SVG picture of a 2D mesh | | [`write_svg`] |
 //!
 //! [`read_points`] picks the reader from the extension.
 //!
@@ -42,7 +45,10 @@ mod atomic;
 mod error;
 mod model;
 mod node;
+mod poly;
+mod svg;
 mod text;
+mod triangle;
 mod vtu;
 mod xyz;
 
@@ -50,5 +56,8 @@ pub use atomic::write_atomic;
 pub use error::IoError;
 pub use model::{PointSet, SimplexMesh};
 pub use node::{parse_node, read_node, write_ele, write_neigh, write_node, write_tetgen_family};
-pub use vtu::{write_vtu, write_vtu_polygons};
+pub use poly::{parse_poly, read_poly, write_poly, PolyFile, PolyRegion};
+pub use svg::{write_svg, SvgMesh, SvgOptions};
+pub use triangle::{read_triangle_mesh, write_triangle_family, TriangleMeshOut};
+pub use vtu::{read_vtu, write_vtu, write_vtu_polygons, FieldMesh};
 pub use xyz::{parse_xyz, read_points, read_xyz};

@@ -18,6 +18,135 @@ use crate::atomic::write_atomic;
 use crate::model::check_points;
 use crate::{IoError, SimplexMesh};
 
+/// A mesh read from a file, with named point fields: a background mesh (field `spacing`) or a
+/// previous flow mesh (pressure, Mach number, ...).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FieldMesh {
+    /// 2 if every z coordinate is 0, else 3.
+    pub dim: usize,
+    /// `dim` coordinates per point.
+    pub coords: Vec<f64>,
+    /// `dim + 1` 0-based point indices per cell (triangles in 2D, tetrahedra in 3D).
+    pub cells: Vec<u32>,
+    /// Scalar point fields by name; a vector field of `k` components gives `name_0`,
+    /// `name_1`, ... (one scalar field per component).
+    pub point_fields: Vec<(String, Vec<f64>)>,
+}
+
+/// Reads a VTK XML unstructured grid (`.vtu`; inline ASCII, binary or appended data, as vtkio
+/// reads them) of triangles or tetrahedra, with its point fields.
+///
+/// # Errors
+/// A file vtkio cannot read, another data set type, cells that are not all triangles (or all
+/// tetrahedra), indices out of range.
+pub fn read_vtu(path: &Path) -> Result<FieldMesh, IoError> {
+    let vtk_err = |e: vtkio::Error| match e {
+        vtkio::Error::IO(source) => IoError::io(path, source),
+        other => IoError::Vtk {
+            file: path.to_path_buf(),
+            message: other.to_string(),
+        },
+    };
+    let vtk = Vtk::import(path).map_err(vtk_err)?;
+    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+        return Err(IoError::invalid(path, "not an unstructured grid (.vtu)"));
+    };
+    if pieces.len() != 1 {
+        return Err(IoError::invalid(
+            path,
+            format!("{} pieces; one is supported", pieces.len()),
+        ));
+    }
+    let piece = pieces
+        .into_iter()
+        .next()
+        .expect("one piece")
+        .into_loaded_piece_data(Some(path))
+        .map_err(|e| IoError::Vtk {
+            file: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+    let xyz: Vec<f64> = piece
+        .points
+        .cast_into::<f64>()
+        .ok_or_else(|| IoError::invalid(path, "point coordinates are not numbers"))?;
+    if xyz.len() % 3 != 0 {
+        return Err(IoError::invalid(
+            path,
+            "point coordinates are not 3 per point",
+        ));
+    }
+    let n_points = xyz.len() / 3;
+    if let Some(i) = xyz.iter().position(|x| !x.is_finite()) {
+        return Err(IoError::invalid(
+            path,
+            format!("point {}: coordinate is not finite", i / 3),
+        ));
+    }
+    let flat = xyz.chunks_exact(3).all(|p| p[2] == 0.0);
+    let dim = if flat { 2 } else { 3 };
+    let (connectivity, offsets) = piece.cells.cell_verts.into_xml();
+    let want = if dim == 2 {
+        CellType::Triangle
+    } else {
+        CellType::Tetra
+    };
+    let mut cells = Vec::with_capacity(connectivity.len());
+    let mut begin = 0usize;
+    for (k, (&end, &ty)) in offsets.iter().zip(&piece.cells.types).enumerate() {
+        let end = end as usize;
+        if ty != want || end < begin || end - begin != dim + 1 || end > connectivity.len() {
+            return Err(IoError::invalid(
+                path,
+                format!("cell {k} is a {ty:?}; only {want:?} cells are supported here"),
+            ));
+        }
+        for &v in &connectivity[begin..end] {
+            if v as usize >= n_points {
+                return Err(IoError::invalid(
+                    path,
+                    format!("cell {k} refers to point {v} but there are {n_points} points"),
+                ));
+            }
+            cells.push(v as u32);
+        }
+        begin = end;
+    }
+    let coords = if dim == 3 {
+        xyz
+    } else {
+        xyz.chunks_exact(3).flat_map(|p| [p[0], p[1]]).collect()
+    };
+    let mut point_fields = Vec::new();
+    for attr in piece.data.point {
+        if let Attribute::DataArray(array) = attr {
+            let comps = array.elem.num_comp() as usize;
+            let Some(values) = array.data.cast_into::<f64>() else {
+                continue;
+            };
+            if comps == 0 || values.len() != comps * n_points {
+                continue;
+            }
+            if comps == 1 {
+                point_fields.push((array.name, values));
+            } else {
+                for c in 0..comps {
+                    point_fields.push((
+                        format!("{}_{c}", array.name),
+                        values.iter().skip(c).step_by(comps).copied().collect(),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(FieldMesh {
+        dim,
+        coords,
+        cells,
+        point_fields,
+    })
+}
+
 /// Writes a triangle (2D) or tetrahedron (3D) mesh as a VTK XML UnstructuredGrid (`.vtu`),
 /// with cell types `VTK_TRIANGLE` / `VTK_TETRA`. Atomic.
 ///

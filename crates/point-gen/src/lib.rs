@@ -2,8 +2,14 @@
 //!
 //! [`SpacingField`] says how far apart points should be anywhere in the domain: interpolated
 //! from the boundary spacing, from a background mesh, from a solution field (adaptation), with
-//! optional analytic sources.
+//! optional analytic sources. [`PointGeneration`] fills a boundary-conforming mesh with points
+//! by Weatherill's α criterion, in passes ([`GenerationReport`]); [`QualityRefinement`] then
+//! removes the few skinny elements left where the spacing changes fast.
 
+mod generate;
+mod refine;
 mod spacing;
 
+pub use generate::{GenerationPass, GenerationReport, PointGenError, PointGeneration};
+pub use refine::QualityRefinement;
 pub use spacing::*;

@@ -1,1 +1,475 @@
-//! Spacing fields (placeholder being written).
+//! [`SpacingField`]: how far apart points should be anywhere in the domain (R10, R11).
+//!
+//! - From the boundary (the paper's default): the spacing interpolated linearly from the
+//!   element's nodes, whose values come from the boundary point spacing.
+//! - From a background mesh ([`BackgroundMesh2`]): a separate coarse triangle mesh whose nodes
+//!   carry spacing values, interpolated barycentrically (R11).
+//! - From a solution ([`BackgroundMesh2::from_solution`]): a previous mesh's field (pressure,
+//!   Mach number) turned into spacing by its gradient: mesh adaptation.
+//! - Analytic [`Source`]s, combined by taking the smallest spacing.
+
+/// Why a spacing field could not be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SpacingError {
+    /// Arrays of different lengths.
+    #[error("{0}")]
+    Lengths(String),
+    /// A triangle names a node that does not exist.
+    #[error("triangle {triangle}: node {node} does not exist ({n_nodes} nodes)")]
+    BadNode {
+        /// 0-based triangle.
+        triangle: usize,
+        /// The node index.
+        node: u32,
+        /// Number of nodes.
+        n_nodes: usize,
+    },
+    /// A triangle has zero area.
+    #[error("triangle {0} has zero area")]
+    Degenerate(usize),
+    /// A node's coordinate or value is not finite, or a spacing is not positive.
+    #[error("node {node}: {what}")]
+    BadValue {
+        /// 0-based node.
+        node: usize,
+        /// What is wrong.
+        what: String,
+    },
+    /// Adaptation bounds are not 0 < min ≤ max.
+    #[error("adaptation needs 0 < min spacing ≤ max spacing (got {min}, {max})")]
+    Bounds {
+        /// Smallest spacing.
+        min: f64,
+        /// Largest spacing.
+        max: f64,
+    },
+    /// The mesh has no triangle.
+    #[error("the background mesh has no triangle")]
+    Empty,
+}
+
+/// A triangle mesh whose nodes carry spacing values, with a bucket grid to find the triangle
+/// containing a point.
+#[derive(Clone, Debug)]
+pub struct BackgroundMesh2 {
+    points: Vec<[f64; 2]>,
+    triangles: Vec<[u32; 3]>,
+    spacing: Vec<f64>,
+    lo: [f64; 2],
+    inv: [f64; 2],
+    dims: [usize; 2],
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl BackgroundMesh2 {
+    /// Checks the mesh and builds its search grid. Triangles may be oriented either way.
+    ///
+    /// # Errors
+    /// Mismatched lengths, bad indices, zero-area triangles, non-finite coordinates, spacing
+    /// values that are not positive and finite.
+    pub fn new(
+        points: Vec<[f64; 2]>,
+        triangles: Vec<[u32; 3]>,
+        spacing: Vec<f64>,
+    ) -> Result<Self, SpacingError> {
+        if spacing.len() != points.len() {
+            return Err(SpacingError::Lengths(format!(
+                "{} nodes but {} spacing values",
+                points.len(),
+                spacing.len()
+            )));
+        }
+        for (i, (p, &h)) in points.iter().zip(&spacing).enumerate() {
+            if !p[0].is_finite() || !p[1].is_finite() {
+                return Err(SpacingError::BadValue {
+                    node: i,
+                    what: "coordinate is not finite".into(),
+                });
+            }
+            if !(h > 0.0 && h.is_finite()) {
+                return Err(SpacingError::BadValue {
+                    node: i,
+                    what: format!("spacing {h} is not positive and finite"),
+                });
+            }
+        }
+        if triangles.is_empty() {
+            return Err(SpacingError::Empty);
+        }
+        for (k, t) in triangles.iter().enumerate() {
+            if let Some(&node) = t.iter().find(|&&v| v as usize >= points.len()) {
+                return Err(SpacingError::BadNode {
+                    triangle: k,
+                    node,
+                    n_nodes: points.len(),
+                });
+            }
+            let p = t.map(|v| points[v as usize]);
+            if delmesh_predicates::orient2d(p[0], p[1], p[2]) == delmesh_predicates::Sign::Zero {
+                return Err(SpacingError::Degenerate(k));
+            }
+        }
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for t in &triangles {
+            for &v in t {
+                let p = points[v as usize];
+                for k in 0..2 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            }
+        }
+        let side = ((triangles.len() as f64).sqrt().ceil() as usize).clamp(1, 2048);
+        let dims = [side, side];
+        let inv = [0, 1].map(|k| {
+            let w = hi[k] - lo[k];
+            if w > 0.0 {
+                dims[k] as f64 / w
+            } else {
+                0.0
+            }
+        });
+        let mut mesh = BackgroundMesh2 {
+            points,
+            triangles,
+            spacing,
+            lo,
+            inv,
+            dims,
+            start: Vec::new(),
+            items: Vec::new(),
+        };
+        let ncell = dims[0] * dims[1];
+        let mut count = vec![0u32; ncell + 1];
+        for k in 0..mesh.triangles.len() {
+            mesh.for_cells(k, |c| count[c + 1] += 1);
+        }
+        for c in 0..ncell {
+            count[c + 1] += count[c];
+        }
+        let mut fill = count.clone();
+        let mut items = vec![0u32; count[ncell] as usize];
+        for k in 0..mesh.triangles.len() {
+            mesh.for_cells(k, |c| {
+                items[fill[c] as usize] = k as u32;
+                fill[c] += 1;
+            });
+        }
+        mesh.start = count;
+        mesh.items = items;
+        Ok(mesh)
+    }
+
+    /// A background mesh from a solution field (mesh adaptation): spacing is `max_spacing`
+    /// where the field's gradient vanishes and `min_spacing` where it is largest, in between
+    /// `h = max / (1 + (max/min − 1)·|∇f|/max|∇f|)` (so the spacing is inversely proportional
+    /// to the gradient where it is large), then limited so neighbouring nodes' spacings grow by
+    /// at most `growth` per unit of distance relative to the spacing.
+    ///
+    /// # Errors
+    /// As [`BackgroundMesh2::new`], bad bounds, or a non-finite field value.
+    pub fn from_solution(
+        points: Vec<[f64; 2]>,
+        triangles: Vec<[u32; 3]>,
+        field: &[f64],
+        adaptation: &Adaptation,
+    ) -> Result<Self, SpacingError> {
+        let (hmin, hmax) = (adaptation.min_spacing, adaptation.max_spacing);
+        if !(hmin > 0.0 && hmin <= hmax && hmax.is_finite()) {
+            return Err(SpacingError::Bounds {
+                min: hmin,
+                max: hmax,
+            });
+        }
+        if field.len() != points.len() {
+            return Err(SpacingError::Lengths(format!(
+                "{} nodes but {} field values",
+                points.len(),
+                field.len()
+            )));
+        }
+        if let Some(i) = field.iter().position(|f| !f.is_finite()) {
+            return Err(SpacingError::BadValue {
+                node: i,
+                what: "field value is not finite".into(),
+            });
+        }
+        // Check the mesh first (with a placeholder spacing).
+        let checked = BackgroundMesh2::new(points, triangles, vec![hmax; field.len()])?;
+        let n = checked.points.len();
+        let mut grad = vec![0.0f64; n];
+        let mut weight = vec![0.0f64; n];
+        for t in &checked.triangles {
+            let p = t.map(|v| checked.points[v as usize]);
+            let f = t.map(|v| field[v as usize]);
+            let (x1, y1) = (p[1][0] - p[0][0], p[1][1] - p[0][1]);
+            let (x2, y2) = (p[2][0] - p[0][0], p[2][1] - p[0][1]);
+            let det = x1 * y2 - x2 * y1;
+            let (df1, df2) = (f[1] - f[0], f[2] - f[0]);
+            let gx = (df1 * y2 - df2 * y1) / det;
+            let gy = (x1 * df2 - x2 * df1) / det;
+            let area = 0.5 * det.abs();
+            for &v in t {
+                grad[v as usize] += area * gx.hypot(gy);
+                weight[v as usize] += area;
+            }
+        }
+        for (g, w) in grad.iter_mut().zip(&weight) {
+            if *w > 0.0 {
+                *g /= w;
+            }
+        }
+        let gmax = grad.iter().copied().fold(0.0, f64::max);
+        let mut h: Vec<f64> = grad
+            .iter()
+            .map(|&g| {
+                if gmax > 0.0 {
+                    (hmax / (1.0 + (hmax / hmin - 1.0) * g / gmax)).clamp(hmin, hmax)
+                } else {
+                    hmax
+                }
+            })
+            .collect();
+        // Gradation: h_i ≤ h_j + growth·|x_i − x_j| along edges, a few sweeps.
+        for _ in 0..8 {
+            let mut changed = false;
+            for t in &checked.triangles {
+                for k in 0..3 {
+                    let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
+                    let d = (checked.points[a][0] - checked.points[b][0])
+                        .hypot(checked.points[a][1] - checked.points[b][1]);
+                    let limit = adaptation.growth * d;
+                    if h[a] > h[b] + limit {
+                        h[a] = h[b] + limit;
+                        changed = true;
+                    }
+                    if h[b] > h[a] + limit {
+                        h[b] = h[a] + limit;
+                        changed = true;
+                    }
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        let mut mesh = checked;
+        mesh.spacing = h;
+        Ok(mesh)
+    }
+
+    /// The nodes.
+    pub fn points(&self) -> &[[f64; 2]] {
+        &self.points
+    }
+
+    /// The triangles.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
+    /// The spacing at each node.
+    pub fn node_spacing(&self) -> &[f64] {
+        &self.spacing
+    }
+
+    fn cell(&self, x: f64, k: usize) -> usize {
+        let c = (x - self.lo[k]) * self.inv[k];
+        if c <= 0.0 {
+            0
+        } else {
+            (c as usize).min(self.dims[k] - 1)
+        }
+    }
+
+    fn for_cells(&self, k: usize, mut f: impl FnMut(usize)) {
+        let p = self.triangles[k].map(|v| self.points[v as usize]);
+        let xs = [p[0][0], p[1][0], p[2][0]];
+        let ys = [p[0][1], p[1][1], p[2][1]];
+        let (x0, x1) = (
+            self.cell(xs.iter().copied().fold(f64::INFINITY, f64::min), 0),
+            self.cell(xs.iter().copied().fold(f64::NEG_INFINITY, f64::max), 0),
+        );
+        let (y0, y1) = (
+            self.cell(ys.iter().copied().fold(f64::INFINITY, f64::min), 1),
+            self.cell(ys.iter().copied().fold(f64::NEG_INFINITY, f64::max), 1),
+        );
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                f(y * self.dims[0] + x);
+            }
+        }
+    }
+
+    /// Barycentric coordinates of `p` in triangle `k`.
+    fn barycentric(&self, k: usize, p: [f64; 2]) -> [f64; 3] {
+        let t = self.triangles[k].map(|v| self.points[v as usize]);
+        let det =
+            (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (t[1][1] - t[0][1]);
+        let l1 =
+            ((p[0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (p[1] - t[0][1])) / det;
+        let l2 =
+            ((t[1][0] - t[0][0]) * (p[1] - t[0][1]) - (p[0] - t[0][0]) * (t[1][1] - t[0][1])) / det;
+        [1.0 - l1 - l2, l1, l2]
+    }
+
+    fn value(&self, k: usize, l: [f64; 3]) -> f64 {
+        let t = self.triangles[k];
+        l[0] * self.spacing[t[0] as usize]
+            + l[1] * self.spacing[t[1] as usize]
+            + l[2] * self.spacing[t[2] as usize]
+    }
+
+    /// The spacing at `p`: barycentric interpolation in the triangle containing it; outside
+    /// the mesh, the value at the nearest point of the nearest triangle found near `p`.
+    pub fn spacing_at(&self, p: [f64; 2]) -> f64 {
+        let (cx, cy) = (self.cell(p[0], 0), self.cell(p[1], 1));
+        let mut best = (f64::INFINITY, 0usize, [1.0 / 3.0; 3]);
+        // Search rings of cells outwards until a containing triangle is found or the ring
+        // cannot hold anything closer than the best so far.
+        let max_ring = self.dims[0].max(self.dims[1]);
+        for ring in 0..=max_ring {
+            let (x0, x1) = (cx.saturating_sub(ring), (cx + ring).min(self.dims[0] - 1));
+            let (y0, y1) = (cy.saturating_sub(ring), (cy + ring).min(self.dims[1] - 1));
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    let on_ring = x == x0 || x == x1 || y == y0 || y == y1;
+                    if ring > 0 && !on_ring {
+                        continue;
+                    }
+                    let c = y * self.dims[0] + x;
+                    for &k in &self.items[self.start[c] as usize..self.start[c + 1] as usize] {
+                        let l = self.barycentric(k as usize, p);
+                        let outside = -(l[0].min(l[1]).min(l[2]));
+                        if outside <= 0.0 {
+                            return self.value(k as usize, l);
+                        }
+                        if outside < best.0 {
+                            // Clamp to the triangle (approximately nearest point).
+                            let mut c = l.map(|x| x.max(0.0));
+                            let s = c[0] + c[1] + c[2];
+                            c = c.map(|x| x / s);
+                            best = (outside, k as usize, c);
+                        }
+                    }
+                }
+            }
+            if best.0.is_finite() && ring >= 1 {
+                break;
+            }
+        }
+        if best.0.is_finite() {
+            self.value(best.1, best.2)
+        } else {
+            self.spacing.iter().copied().fold(f64::INFINITY, f64::min)
+        }
+    }
+}
+
+/// Parameters of adaptation from a solution field ([`BackgroundMesh2::from_solution`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Adaptation {
+    /// Spacing where the gradient is largest.
+    pub min_spacing: f64,
+    /// Spacing where the field is flat.
+    pub max_spacing: f64,
+    /// Largest growth of spacing per unit distance between neighbouring nodes.
+    pub growth: f64,
+}
+
+impl Adaptation {
+    /// Bounds `min ≤ max`, growth 0.3 (the spacing grows by at most 30% of the distance).
+    pub fn new(min_spacing: f64, max_spacing: f64) -> Self {
+        Adaptation {
+            min_spacing,
+            max_spacing,
+            growth: 0.3,
+        }
+    }
+}
+
+/// An analytic source of fine spacing: `h0` within `radius` of a point or a segment,
+/// growing linearly at `growth` per unit distance beyond.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Source {
+    /// The point, or the first end of the segment.
+    pub a: [f64; 2],
+    /// The second end of the segment (equal to `a` for a point source).
+    pub b: [f64; 2],
+    /// Spacing at the source.
+    pub h0: f64,
+    /// Radius within which the spacing is `h0`.
+    pub radius: f64,
+    /// Growth of the spacing per unit distance beyond the radius.
+    pub growth: f64,
+}
+
+impl Source {
+    /// The spacing this source asks for at `p`.
+    pub fn spacing(&self, p: [f64; 2]) -> f64 {
+        let (dx, dy) = (self.b[0] - self.a[0], self.b[1] - self.a[1]);
+        let len2 = dx * dx + dy * dy;
+        let t = if len2 > 0.0 {
+            (((p[0] - self.a[0]) * dx + (p[1] - self.a[1]) * dy) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let q = [self.a[0] + t * dx, self.a[1] + t * dy];
+        let d = (p[0] - q[0]).hypot(p[1] - q[1]);
+        self.h0 + self.growth * (d - self.radius).max(0.0)
+    }
+}
+
+/// Where the spacing comes from.
+#[derive(Clone, Debug)]
+enum Base {
+    Boundary,
+    Background(BackgroundMesh2),
+}
+
+/// The spacing field of point generation: a base (the boundary's spacing interpolated from the
+/// element's nodes, or a background mesh) refined by sources.
+#[derive(Clone, Debug)]
+pub struct SpacingField {
+    base: Base,
+    sources: Vec<Source>,
+}
+
+impl SpacingField {
+    /// The paper's default: spacing interpolated from the element's nodes.
+    pub fn boundary() -> Self {
+        SpacingField {
+            base: Base::Boundary,
+            sources: Vec::new(),
+        }
+    }
+
+    /// Spacing from a background mesh.
+    pub fn background(mesh: BackgroundMesh2) -> Self {
+        SpacingField {
+            base: Base::Background(mesh),
+            sources: Vec::new(),
+        }
+    }
+
+    /// Adds a source: the spacing becomes the smaller of the field's and the source's.
+    pub fn with_source(mut self, source: Source) -> Self {
+        self.sources.push(source);
+        self
+    }
+
+    /// Whether the field uses the values interpolated from the element's nodes.
+    pub fn uses_node_values(&self) -> bool {
+        matches!(self.base, Base::Boundary)
+    }
+
+    /// The spacing at `p`; `from_nodes` is the value interpolated from the element's nodes.
+    pub fn spacing(&self, p: [f64; 2], from_nodes: f64) -> f64 {
+        let base = match &self.base {
+            Base::Boundary => from_nodes,
+            Base::Background(mesh) => mesh.spacing_at(p),
+        };
+        self.sources.iter().fold(base, |h, s| h.min(s.spacing(p)))
+    }
+}

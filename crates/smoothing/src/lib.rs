@@ -1,5 +1,14 @@
-//! Laplacian smoothing and mesh quality statistics (planned; see `../shared/paper.md` R12).
+//! Laplacian smoothing that never inverts an element, and mesh quality statistics (R12).
 //!
-//! This crate will hold the `Smoother` (relaxation factor ω, N passes, boundary points fixed)
-//! that never inverts an element, and the quality measures reported by the CLI. Nothing is
-//! implemented yet.
+//! [`Smoother`] moves every free point towards the mean of its neighbours,
+//! `X ← X + ω·Σ(X_i − X)/M`, for N passes (Gauss–Seidel, in place). A move is kept only if
+//! every triangle around the point stays positively oriented (exact `orient2d`) and its smallest
+//! angle does not drop below half of what it was; otherwise the move is halved, up to
+//! [`MAX_HALVINGS`] times, then skipped. [`QualityReport`] measures a mesh: angles, areas,
+//! the area ratio of neighbours.
+
+mod laplace;
+mod quality;
+
+pub use laplace::{SmoothError, SmoothStats, Smoother, MAX_HALVINGS};
+pub use quality::QualityReport;

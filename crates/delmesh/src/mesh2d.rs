@@ -1,0 +1,488 @@
+//! The paper's whole 2D pipeline: `delmesh mesh domain.poly -o mesh.vtu` as a library call.
+//!
+//! [`Plc2`] → boundary recovery and exterior deletion ([`BoundaryRecovery`]) → automatic points
+//! ([`PointGeneration`] against a [`SpacingField`]) → Laplacian smoothing ([`Smoother`]) with
+//! the Delaunay property restored by flips → quality report → output. One [`Mesh2`] value flows
+//! through; every stage is timed ([`MeshRun2::timings`]).
+//!
+//! ```
+//! use delmesh::mesh2d::{mesh_plc, MeshOptions2};
+//! use delmesh::recovery::{Plc2, Segment};
+//! let points = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+//! let segments = (0..4).map(|i| Segment { a: i, b: (i + 1) % 4, marker: 1 }).collect();
+//! let plc = Plc2 { points, segments, ..Default::default() };
+//! let run = mesh_plc(&plc, &MeshOptions2::default())?;
+//! assert!(run.arrays.triangles.len() > 2);
+//! assert!((run.mesh.area() - 1.0).abs() < 1e-12);
+//! # Ok::<(), delmesh::Error>(())
+//! ```
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use delmesh_boundary_recovery::{
+    BoundaryRecovery, Mesh2, MeshArrays, Plc2, RecoveryHistory, RecoveryMethod, RegionSeed, Segment,
+};
+use delmesh_io::PolyFile;
+use delmesh_point_gen::{
+    Adaptation, BackgroundMesh2, GenerationReport, PointGeneration, QualityRefinement, Source,
+    SpacingField,
+};
+use delmesh_smoothing::{QualityReport, SmoothStats, Smoother};
+
+use crate::Error;
+
+/// Where the spacing of automatic point generation comes from.
+#[derive(Clone, Debug, Default)]
+pub enum Spacing {
+    /// Interpolated from the boundary spacing (the paper's default, R10).
+    #[default]
+    Boundary,
+    /// From a background mesh whose nodes carry spacing values (R11).
+    Background(BackgroundMesh2),
+}
+
+/// Options of the 2D pipeline; `Default` is the paper's method with its usual parameters.
+#[derive(Clone, Debug)]
+pub struct MeshOptions2 {
+    /// How missing boundary segments are recovered.
+    pub recovery: RecoveryMethod,
+    /// Extra points to triangulate with the boundary (R9); those outside the domain are dropped.
+    pub extra_points: Vec<[f64; 2]>,
+    /// Automatic point generation (`None`: the boundary and extra points only).
+    pub generation: Option<PointGeneration>,
+    /// Quality refinement after generation (`None`: none; needs generation).
+    pub refinement: Option<QualityRefinement>,
+    /// The spacing field's base.
+    pub spacing: Spacing,
+    /// Analytic sources refining the spacing.
+    pub sources: Vec<Source>,
+    /// Laplacian smoothing (`None`: no smoothing).
+    pub smoothing: Option<Smoother>,
+    /// After smoothing, restore the (constrained) Delaunay property by edge flips.
+    pub delaunay_flips: bool,
+}
+
+impl Default for MeshOptions2 {
+    fn default() -> Self {
+        MeshOptions2 {
+            recovery: RecoveryMethod::Stitch,
+            extra_points: Vec::new(),
+            generation: Some(PointGeneration::default()),
+            refinement: Some(QualityRefinement::default()),
+            spacing: Spacing::Boundary,
+            sources: Vec::new(),
+            smoothing: Some(Smoother::new()),
+            delaunay_flips: true,
+        }
+    }
+}
+
+/// The result of the 2D pipeline.
+#[derive(Clone, Debug)]
+pub struct MeshRun2 {
+    /// The mesh (triangulation, boundary edges, regions, spacing).
+    pub mesh: Mesh2,
+    /// The mesh as flat arrays (what the writers take).
+    pub arrays: MeshArrays,
+    /// The recovery passes.
+    pub recovery: RecoveryHistory,
+    /// The point generation passes, if generation ran.
+    pub generation: Option<GenerationReport>,
+    /// What smoothing did, if it ran.
+    pub smoothing: Option<SmoothStats>,
+    /// Edge flips made after smoothing.
+    pub flips: usize,
+    /// Points added by quality refinement.
+    pub refined: usize,
+    /// Quality of the final mesh.
+    pub quality: QualityReport,
+    /// Seconds spent in each stage, in order.
+    pub timings: Vec<(&'static str, f64)>,
+}
+
+/// Runs the pipeline on `plc`.
+///
+/// # Errors
+/// Invalid input (crossing segments, bad seeds, non-finite coordinates; named in the input's
+/// numbering), a domain with no element, or a bad option.
+pub fn mesh_plc(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Error> {
+    let mut timings = Vec::new();
+    let mut clock = Instant::now();
+    let mut lap = |name: &'static str, timings: &mut Vec<(&'static str, f64)>| {
+        timings.push((name, clock.elapsed().as_secs_f64()));
+        clock = Instant::now();
+    };
+    let mut mesh = BoundaryRecovery::new(options.recovery)
+        .with_points(options.extra_points.clone())
+        .run(plc)?;
+    lap("boundary recovery", &mut timings);
+    let mut refined = 0;
+    let generation = match &options.generation {
+        Some(settings) => {
+            let mut field = match &options.spacing {
+                Spacing::Boundary => SpacingField::boundary(),
+                Spacing::Background(bg) => SpacingField::background(bg.clone()),
+            };
+            for s in &options.sources {
+                field = field.with_source(s.clone());
+            }
+            let report = settings.run(&mut mesh, &field)?;
+            lap("point generation", &mut timings);
+            if let Some(refinement) = &options.refinement {
+                refined = refinement.run(&mut mesh)?;
+                lap("quality refinement", &mut timings);
+            }
+            Some(report)
+        }
+        None => None,
+    };
+    let mut flips = 0;
+    let smoothing = match &options.smoothing {
+        Some(smoother) => {
+            let arrays = mesh.to_arrays();
+            let mut coords = arrays.coords.clone();
+            let stats = smoother.smooth(&mut coords, &arrays.triangles, &arrays.on_boundary)?;
+            let moves: Vec<_> = arrays
+                .vertex
+                .iter()
+                .zip(coords.iter().zip(&arrays.coords))
+                .filter(|(_, (new, old))| new != old)
+                .map(|(&v, (&new, _))| (v, new))
+                .collect();
+            // The smoother keeps every element positive, so the triangulation accepts the moves.
+            mesh.cdt
+                .move_vertices(&moves)
+                .map_err(|e| Error::Internal(format!("smoothing moved a vertex badly: {e}")))?;
+            lap("smoothing", &mut timings);
+            if options.delaunay_flips {
+                flips = mesh.cdt.make_delaunay();
+                lap("delaunay flips", &mut timings);
+            }
+            Some(stats)
+        }
+        None => None,
+    };
+    let arrays = mesh.to_arrays();
+    let quality = QualityReport::of_triangles(&arrays.coords, &arrays.triangles);
+    lap("quality and output arrays", &mut timings);
+    Ok(MeshRun2 {
+        recovery: mesh.history.clone(),
+        mesh,
+        arrays,
+        generation,
+        smoothing,
+        flips,
+        refined,
+        quality,
+        timings,
+    })
+}
+
+/// Reads a Triangle `.poly` file as a [`Plc2`].
+///
+/// # Errors
+/// The file cannot be read or is malformed (file and line in the message).
+pub fn read_plc(path: &Path) -> Result<Plc2, Error> {
+    Ok(plc_from_poly(&delmesh_io::read_poly(path)?))
+}
+
+/// The [`Plc2`] of a parsed `.poly` file.
+pub fn plc_from_poly(poly: &PolyFile) -> Plc2 {
+    let n = poly.points.len();
+    Plc2 {
+        points: (0..n).map(|i| poly.points.point2(i)).collect(),
+        point_markers: poly.points.markers.clone().unwrap_or_default(),
+        segments: poly
+            .segments
+            .iter()
+            .zip(&poly.segment_markers)
+            .map(|(s, &marker)| Segment {
+                a: s[0],
+                b: s[1],
+                marker,
+            })
+            .collect(),
+        holes: poly.holes.clone(),
+        regions: poly
+            .regions
+            .iter()
+            .map(|r| RegionSeed {
+                point: r.point,
+                attribute: r.attribute,
+                max_area: r.max_area,
+            })
+            .collect(),
+        first_index: poly.first_index,
+    }
+}
+
+/// The output formats of [`MeshRun2::write`], by extension.
+pub const MESH_OUTPUTS: &str = ".vtu, .ele, .svg";
+
+impl MeshRun2 {
+    /// Writes the mesh to `out`, the format chosen by its extension: `.vtu` (cell data `region`,
+    /// point data `marker` and `spacing`), `.ele` (the Triangle family `X.node`, `X.ele`,
+    /// `X.edge` with boundary markers and region attributes, numbered from 1) or `.svg` (a
+    /// picture). Returns the files written.
+    ///
+    /// # Errors
+    /// An unsupported extension, or a file that cannot be written.
+    pub fn write(&self, out: &Path) -> Result<Vec<PathBuf>, Error> {
+        let a = &self.arrays;
+        let coords: Vec<f64> = a.coords.iter().flatten().copied().collect();
+        let cells: Vec<u32> = a.triangles.iter().flatten().copied().collect();
+        let ext = out
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
+        match ext.as_str() {
+            "vtu" => {
+                let mesh = delmesh_io::SimplexMesh {
+                    dim: 2,
+                    coords: &coords,
+                    cells: &cells,
+                    neighbors: None,
+                };
+                let markers: Vec<f64> = a.point_markers.iter().map(|&m| f64::from(m)).collect();
+                let spacing: Vec<f64> = a
+                    .vertex
+                    .iter()
+                    .map(|v| {
+                        self.mesh
+                            .spacing
+                            .get(v.index())
+                            .copied()
+                            .unwrap_or(f64::NAN)
+                    })
+                    .collect();
+                let quality = min_angles(a);
+                delmesh_io::write_vtu(
+                    out,
+                    &mesh,
+                    &[("marker", &markers), ("spacing", &spacing)],
+                    &[("region", &a.regions), ("min_angle", &quality)],
+                )?;
+                Ok(vec![out.to_path_buf()])
+            }
+            "ele" => Ok(delmesh_io::write_triangle_family(
+                out,
+                &delmesh_io::TriangleMeshOut {
+                    coords: &coords,
+                    triangles: &cells,
+                    point_markers: Some(&a.point_markers),
+                    cell_attributes: Some(&a.regions),
+                    edges: &a.edges,
+                    edge_markers: &a.edge_markers,
+                },
+                1,
+            )?),
+            "svg" => {
+                delmesh_io::write_svg(
+                    out,
+                    &delmesh_io::SvgMesh {
+                        coords: &coords,
+                        triangles: &cells,
+                        segments: &a.edges,
+                        segment_markers: &a.edge_markers,
+                        cell_values: None,
+                    },
+                    &delmesh_io::SvgOptions::default(),
+                )?;
+                Ok(vec![out.to_path_buf()])
+            }
+            _ => Err(Error::UnsupportedFormat {
+                file: out.to_path_buf(),
+                ext: if ext.is_empty() {
+                    "(none)".into()
+                } else {
+                    format!(".{ext}")
+                },
+                supported: MESH_OUTPUTS,
+            }),
+        }
+    }
+
+    /// The run's summary as text: recovery and generation passes, smoothing, quality, timings.
+    pub fn summary(&self) -> String {
+        let mut s = String::new();
+        s.push_str(&format!(
+            "boundary recovery ({:?}): {} points added\n{}",
+            self.recovery.method,
+            self.recovery.points_added(),
+            self.recovery
+        ));
+        if let Some(g) = &self.generation {
+            s.push_str(&format!(
+                "point generation: {} points added\n{g}",
+                g.points_added()
+            ));
+            s.push_str(&format!(
+                "quality refinement: {} points added\n",
+                self.refined
+            ));
+        }
+        if let Some(st) = &self.smoothing {
+            s.push_str(&format!("smoothing: {st}\n"));
+            s.push_str(&format!("delaunay flips after smoothing: {}\n", self.flips));
+        }
+        s.push_str(&format!(
+            "mesh: {} points, {} triangles, {} boundary edges\n",
+            self.arrays.coords.len(),
+            self.arrays.triangles.len(),
+            self.arrays.edges.len()
+        ));
+        s.push_str(&format!("{}", self.quality));
+        let total: f64 = self.timings.iter().map(|t| t.1).sum();
+        s.push_str("time per stage:\n");
+        for (name, t) in &self.timings {
+            s.push_str(&format!("  {name:<26} {t:.6} s\n"));
+        }
+        s.push_str(&format!("  {:<26} {total:.6} s\n", "total"));
+        s
+    }
+
+    /// The run's report as JSON (`--report report.json`).
+    pub fn report_json(&self) -> String {
+        let passes = |v: Vec<String>| format!("[{}]", v.join(", "));
+        let recovery = passes(
+            self.recovery
+                .passes
+                .iter()
+                .map(|p| {
+                    format!(
+                        "{{\"points\": {}, \"triangles\": {}, \"boundary_edges\": {}, \"missing\": {}, \"inserted\": {}}}",
+                        p.points, p.triangles, p.boundary_edges, p.missing, p.inserted
+                    )
+                })
+                .collect(),
+        );
+        let generation = self.generation.as_ref().map_or("null".to_string(), |g| {
+            passes(
+                g.passes
+                    .iter()
+                    .map(|p| {
+                        format!(
+                            "{{\"candidates\": {}, \"accepted\": {}, \"elements\": {}}}",
+                            p.candidates, p.accepted, p.elements
+                        )
+                    })
+                    .collect(),
+            )
+        });
+        let timings = self
+            .timings
+            .iter()
+            .map(|(n, t)| format!("\"{n}\": {t}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        format!(
+            "{{\n  \"points\": {},\n  \"triangles\": {},\n  \"boundary_edges\": {},\n  \"recovery\": {{\"method\": \"{:?}\", \"passes\": {recovery}}},\n  \"generation\": {generation},\n  \"flips_after_smoothing\": {},\n  \"quality\": {},\n  \"seconds\": {{{timings}}}\n}}\n",
+            self.arrays.coords.len(),
+            self.arrays.triangles.len(),
+            self.arrays.edges.len(),
+            self.recovery.method,
+            self.flips,
+            self.quality.to_json()
+        )
+    }
+}
+
+/// The smallest angle of each triangle, in degrees (a cell field for the `.vtu` output).
+fn min_angles(a: &MeshArrays) -> Vec<f64> {
+    a.triangles
+        .iter()
+        .map(|t| {
+            let p = t.map(|v| a.coords[v as usize]);
+            (0..3)
+                .map(|k| {
+                    let (o, u, w) = (p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
+                    let (ux, uy, wx, wy) = (u[0] - o[0], u[1] - o[1], w[0] - o[0], w[1] - o[1]);
+                    (ux * wy - uy * wx)
+                        .abs()
+                        .atan2(ux * wx + uy * wy)
+                        .to_degrees()
+                })
+                .fold(180.0, f64::min)
+        })
+        .collect()
+}
+
+/// Reads a background mesh for [`Spacing::Background`]: a `.vtu` with a point field
+/// `field` (default `spacing`), or a Triangle `.ele` (with its `.node`, one attribute).
+///
+/// # Errors
+/// The file cannot be read, has no such field, or its values are not valid spacings.
+pub fn read_background(path: &Path, field: Option<&str>) -> Result<BackgroundMesh2, Error> {
+    let (points, triangles, values) = read_field(path, field.unwrap_or("spacing"))?;
+    BackgroundMesh2::new(points, triangles, values).map_err(|e| Error::Spacing {
+        file: path.to_path_buf(),
+        source: e,
+    })
+}
+
+/// Reads a previous mesh and turns its point field `field` into spacing by its gradient
+/// (mesh adaptation, R11).
+///
+/// # Errors
+/// As [`read_background`].
+pub fn read_adaptation(
+    path: &Path,
+    field: &str,
+    adaptation: &Adaptation,
+) -> Result<BackgroundMesh2, Error> {
+    let (points, triangles, values) = read_field(path, field)?;
+    BackgroundMesh2::from_solution(points, triangles, &values, adaptation).map_err(|e| {
+        Error::Spacing {
+            file: path.to_path_buf(),
+            source: e,
+        }
+    })
+}
+
+type FieldData = (Vec<[f64; 2]>, Vec<[u32; 3]>, Vec<f64>);
+
+fn read_field(path: &Path, field: &str) -> Result<FieldData, Error> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    let mesh = match ext.as_str() {
+        "vtu" => delmesh_io::read_vtu(path)?,
+        "ele" => delmesh_io::read_triangle_mesh(path)?,
+        _ => {
+            return Err(Error::UnsupportedFormat {
+                file: path.to_path_buf(),
+                ext: format!(".{ext}"),
+                supported: ".vtu, .ele",
+            })
+        }
+    };
+    if mesh.dim != 2 {
+        return Err(Error::Dimension {
+            file: path.to_path_buf(),
+            dim: mesh.dim,
+        });
+    }
+    let Some((_, values)) = mesh.point_fields.iter().find(|(n, _)| n == field) else {
+        let names: Vec<&str> = mesh.point_fields.iter().map(|(n, _)| n.as_str()).collect();
+        return Err(Error::MissingField {
+            file: path.to_path_buf(),
+            field: field.to_string(),
+            available: if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(", ")
+            },
+        });
+    };
+    let points = mesh.coords.chunks_exact(2).map(|p| [p[0], p[1]]).collect();
+    let triangles = mesh
+        .cells
+        .chunks_exact(3)
+        .map(|t| [t[0], t[1], t[2]])
+        .collect();
+    Ok((points, triangles, values.clone()))
+}
