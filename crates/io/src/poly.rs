@@ -361,7 +361,7 @@ mod tests {
         let e = parse_poly(&bad, Path::new("sq.poly")).unwrap_err();
         assert_eq!(
             e.to_string(),
-            "sq.poly:15: segment end point 9 does not exist (points are numbered 1 to 8)"
+            "sq.poly:16: segment end point 9 does not exist (points are numbered 1 to 8)"
         );
         let e = parse_poly("4 2 0 0\n0 0 0\n1 1 0\n", Path::new("s.poly")).unwrap_err();
         assert!(
@@ -377,7 +377,7 @@ mod tests {
         let e = parse_poly(&SQUARE.replace("1 1 2 5", "1 1 2"), Path::new("d.poly")).unwrap_err();
         assert_eq!(
             e.to_string(),
-            "d.poly:11: expected 4 fields for a segment, found 3"
+            "d.poly:12: expected 4 fields for a segment, found 3"
         );
         for garbage in [
             "",

@@ -314,6 +314,24 @@ impl BackgroundMesh2 {
         [1.0 - l1 - l2, l1, l2]
     }
 
+    /// The point of triangle `k`'s boundary nearest to `p`, and its distance.
+    fn nearest_on_boundary(&self, k: usize, p: [f64; 2]) -> (f64, [f64; 2]) {
+        let t = self.triangles[k].map(|v| self.points[v as usize]);
+        let mut best = (f64::INFINITY, t[0]);
+        for e in 0..3 {
+            let (a, b) = (t[e], t[(e + 1) % 3]);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let s =
+                (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+            let q = [a[0] + s * dx, a[1] + s * dy];
+            let d = (p[0] - q[0]).hypot(p[1] - q[1]);
+            if d < best.0 {
+                best = (d, q);
+            }
+        }
+        best
+    }
+
     fn value(&self, k: usize, l: [f64; 3]) -> f64 {
         let t = self.triangles[k];
         l[0] * self.spacing[t[0] as usize]
@@ -325,9 +343,9 @@ impl BackgroundMesh2 {
     /// the mesh, the value at the nearest point of the nearest triangle found near `p`.
     pub fn spacing_at(&self, p: [f64; 2]) -> f64 {
         let (cx, cy) = (self.cell(p[0], 0), self.cell(p[1], 1));
-        let mut best = (f64::INFINITY, 0usize, [1.0 / 3.0; 3]);
-        // Search rings of cells outwards until a containing triangle is found or the ring
-        // cannot hold anything closer than the best so far.
+        let mut best = (f64::INFINITY, 0usize, [1.0 / 3.0; 3]); // (distance, triangle, barycentric)
+                                                                // Search rings of cells outwards until a containing triangle is found or the ring
+                                                                // cannot hold anything closer than the best so far.
         let max_ring = self.dims[0].max(self.dims[1]);
         for ring in 0..=max_ring {
             let (x0, x1) = (cx.saturating_sub(ring), (cx + ring).min(self.dims[0] - 1));
@@ -341,21 +359,19 @@ impl BackgroundMesh2 {
                     let c = y * self.dims[0] + x;
                     for &k in &self.items[self.start[c] as usize..self.start[c + 1] as usize] {
                         let l = self.barycentric(k as usize, p);
-                        let outside = -(l[0].min(l[1]).min(l[2]));
-                        if outside <= 0.0 {
+                        if l[0].min(l[1]).min(l[2]) >= 0.0 {
                             return self.value(k as usize, l);
                         }
-                        if outside < best.0 {
-                            // Clamp to the triangle (approximately nearest point).
-                            let mut c = l.map(|x| x.max(0.0));
-                            let s = c[0] + c[1] + c[2];
-                            c = c.map(|x| x / s);
-                            best = (outside, k as usize, c);
+                        let (d, q) = self.nearest_on_boundary(k as usize, p);
+                        if d < best.0 {
+                            best = (d, k as usize, self.barycentric(k as usize, q));
                         }
                     }
                 }
             }
-            if best.0.is_finite() && ring >= 1 {
+            // Beyond this ring, cells are farther than the best distance found: stop.
+            let cell_size = 1.0 / self.inv[0].max(self.inv[1]).max(f64::MIN_POSITIVE);
+            if best.0.is_finite() && (ring as f64) * cell_size > best.0 {
                 break;
             }
         }

@@ -1,0 +1,141 @@
+//! Smoothing never inverts an element, never moves a fixed point, conserves the area of a mesh
+//! with a fixed boundary, and improves a jittered grid; the quality report is stable.
+
+use delmesh_predicates::{orient2d, Sign};
+use delmesh_smoothing::{QualityReport, SmoothError, Smoother};
+use proptest::prelude::*;
+use rand::{rngs::StdRng, Rng, SeedableRng};
+
+/// A k × k grid of unit squares split into triangles, interior points jittered by up to
+/// `jitter` (≤ 0.25 keeps every triangle positive), boundary points fixed.
+fn jittered_grid(k: usize, jitter: f64, seed: u64) -> (Vec<[f64; 2]>, Vec<[u32; 3]>, Vec<bool>) {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let mut pts = Vec::new();
+    let mut fixed = Vec::new();
+    for j in 0..=k {
+        for i in 0..=k {
+            let edge = i == 0 || j == 0 || i == k || j == k;
+            let (dx, dy) = if edge || jitter == 0.0 {
+                (0.0, 0.0)
+            } else {
+                (
+                    rng.gen_range(-jitter..jitter),
+                    rng.gen_range(-jitter..jitter),
+                )
+            };
+            pts.push([i as f64 + dx, j as f64 + dy]);
+            fixed.push(edge);
+        }
+    }
+    let id = |i: usize, j: usize| (j * (k + 1) + i) as u32;
+    let mut tris = Vec::new();
+    for j in 0..k {
+        for i in 0..k {
+            tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    (pts, tris, fixed)
+}
+
+fn all_positive(pts: &[[f64; 2]], tris: &[[u32; 3]]) -> bool {
+    tris.iter().all(|t| {
+        let p = t.map(|v| pts[v as usize]);
+        orient2d(p[0], p[1], p[2]) == Sign::Positive
+    })
+}
+
+#[test]
+fn a_jittered_grid_gets_better_and_keeps_its_area() {
+    let (mut pts, tris, fixed) = jittered_grid(20, 0.25, 1);
+    assert!(all_positive(&pts, &tris));
+    let before = QualityReport::of_triangles(&pts, &tris);
+    let original = pts.clone();
+    let stats = Smoother::new().smooth(&mut pts, &tris, &fixed).unwrap();
+    assert!(stats.moved > 0);
+    assert!(all_positive(&pts, &tris));
+    let after = QualityReport::of_triangles(&pts, &tris);
+    assert!(
+        after.min_angle > before.min_angle + 5.0,
+        "{} → {}",
+        before.min_angle,
+        after.min_angle
+    );
+    assert!((after.total_area - 400.0).abs() < 1e-9);
+    for (i, &f) in fixed.iter().enumerate() {
+        if f {
+            assert_eq!(pts[i], original[i]);
+        }
+    }
+}
+
+#[test]
+fn a_point_that_plain_laplace_would_push_out_stays_inside() {
+    // A non-convex star: the centre's neighbours' mean lies outside its star polygon, so a
+    // full Laplacian step (ω = 1) would invert elements.
+    // The neighbours' mean is (0.5, 0), beyond the reflex vertex (-0.5, 0).
+    let pts0 = vec![
+        [-1.0, 0.0], // centre
+        [3.0, -1.0],
+        [-0.5, 0.0], // reflex vertex
+        [3.0, 1.0],
+        [-1.5, 1.0],
+        [-1.5, -1.0],
+    ];
+    let tris = vec![[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 5], [0, 5, 1]];
+    let mut pts = pts0.clone();
+    assert!(all_positive(&pts, &tris));
+    let fixed = [false, true, true, true, true, true];
+    Smoother::new()
+        .omega(1.0)
+        .unwrap()
+        .iterations(50)
+        .smooth(&mut pts, &tris, &fixed)
+        .unwrap();
+    assert!(all_positive(&pts, &tris));
+}
+
+#[test]
+fn bad_input_is_an_error() {
+    assert_eq!(Smoother::new().omega(0.0), Err(SmoothError::BadOmega(0.0)));
+    assert!(Smoother::new().omega(f64::NAN).is_err());
+    let (mut pts, tris, fixed) = jittered_grid(2, 0.0, 0);
+    assert!(Smoother::new()
+        .smooth(&mut pts, &tris, &fixed[..3])
+        .is_err());
+    let bad = vec![[0, 1, 99]];
+    assert!(Smoother::new().smooth(&mut pts, &bad, &fixed).is_err());
+    let clockwise = vec![[0, 2, 1]];
+    assert!(Smoother::new()
+        .smooth(&mut pts, &clockwise, &fixed)
+        .is_err());
+    pts[4] = [f64::NAN, 0.0];
+    assert!(Smoother::new().smooth(&mut pts, &tris, &fixed).is_err());
+}
+
+#[test]
+fn quality_report_snapshot() {
+    let (pts, tris, _) = jittered_grid(3, 0.3, 7);
+    let q = QualityReport::of_triangles(&pts, &tris);
+    insta::assert_snapshot!(format!("{q}{}", q.to_json()));
+    assert_eq!(QualityReport::of_triangles(&pts, &[]).elements, 0);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(40))]
+    #[test]
+    fn smoothing_never_inverts(seed in 0u64..10_000, k in 2usize..12, jitter in 0.0f64..0.25, omega in 0.01f64..1.0) {
+        let (mut pts, tris, fixed) = jittered_grid(k, jitter, seed);
+        prop_assume!(all_positive(&pts, &tris));
+        let original = pts.clone();
+        Smoother::new().omega(omega).unwrap().iterations(20).smooth(&mut pts, &tris, &fixed).unwrap();
+        prop_assert!(all_positive(&pts, &tris));
+        for (i, &f) in fixed.iter().enumerate() {
+            if f {
+                prop_assert_eq!(pts[i], original[i]);
+            }
+        }
+        let area: f64 = QualityReport::of_triangles(&pts, &tris).total_area;
+        prop_assert!((area - (k * k) as f64).abs() < 1e-9 * (k * k) as f64);
+    }
+}
