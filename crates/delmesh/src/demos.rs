@@ -128,7 +128,6 @@ pub fn run(name: &str, dir: &Path) -> Result<DemoOutput, Error> {
     })?;
     match name {
         "figure1" | "figure4" | "random2d" => {
-            let name = if name == "random2d" { "figure4" } else { name };
             let (run, table) = if name == "figure1" {
                 let run = figure1()?;
                 let table = run.voronoi_table();

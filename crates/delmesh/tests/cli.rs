@@ -496,3 +496,165 @@ fn validate_flag_checks_the_result() {
     assert!(stderr.contains("validation: ok"), "{stderr}");
     assert!(stderr.contains("build time: "), "{stderr}");
 }
+
+/// A 4 × 4 square with a 2 × 2 square hole (by nesting), numbered from 1, with markers.
+const SQUARE_POLY: &str = "# square with a hole\n\
+    8 2 0 0\n1 0 0\n2 4 0\n3 4 4\n4 0 4\n5 1 1\n6 1 3\n7 3 3\n8 3 1\n\
+    8 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 1 1\n5 5 6 2\n6 6 7 2\n7 7 8 2\n8 8 5 2\n0\n";
+
+#[test]
+fn mesh_a_poly_file_to_every_format() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("sq.poly"), SQUARE_POLY).unwrap();
+    let out = delmesh(
+        dir.path(),
+        &[
+            "mesh",
+            "sq.poly",
+            "-o",
+            "m.vtu",
+            "-o",
+            "m.ele",
+            "-o",
+            "m.svg",
+            "--report",
+            "r.json",
+            "--validate",
+            "--alpha",
+            "0.5",
+        ],
+    );
+    let err = ok(&out);
+    for key in [
+        "boundary recovery",
+        "point generation",
+        "smoothing",
+        "validation: ok",
+        "time per stage",
+    ] {
+        assert!(err.contains(key), "{key}: {err}");
+    }
+    for f in ["m.vtu", "m.node", "m.ele", "m.edge", "m.svg", "r.json"] {
+        assert!(dir.path().join(f).is_file(), "{f}");
+    }
+    let edge = std::fs::read_to_string(dir.path().join("m.edge")).unwrap();
+    assert!(
+        edge.lines()
+            .skip(1)
+            .all(|l| l.ends_with(" 1") || l.ends_with(" 2")),
+        "{edge}"
+    );
+    let report = std::fs::read_to_string(dir.path().join("r.json")).unwrap();
+    assert!(
+        report.contains("\"quality\"") && report.contains("\"generation\""),
+        "{report}"
+    );
+    let ele = int_rows(&dir.path().join("m.ele"));
+    assert!(ele.len() > 8, "{ele:?}");
+
+    // The mesh's own spacing field drives a second run (a background mesh), and a previous
+    // solution field drives adaptation.
+    let out = delmesh(
+        dir.path(),
+        &["mesh", "sq.poly", "-o", "b.vtu", "--background", "m.vtu"],
+    );
+    ok(&out);
+    let out = delmesh(
+        dir.path(),
+        &[
+            "mesh",
+            "sq.poly",
+            "-o",
+            "a.vtu",
+            "--adapt",
+            "m.vtu",
+            "--field",
+            "spacing",
+            "--min-spacing",
+            "0.05",
+            "--max-spacing",
+            "0.5",
+        ],
+    );
+    ok(&out);
+}
+
+#[test]
+fn mesh_recovery_methods_and_options() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("sq.poly"), SQUARE_POLY).unwrap();
+    for method in ["stitch", "a-priori", "constrained"] {
+        let out = delmesh(
+            dir.path(),
+            &[
+                "mesh",
+                "sq.poly",
+                "-o",
+                "c.vtu",
+                "--recovery",
+                method,
+                "--validate",
+                "--no-smoothing",
+            ],
+        );
+        assert!(ok(&out).contains("validation: ok"));
+    }
+    let out = delmesh(
+        dir.path(),
+        &["mesh", "sq.poly", "-o", "n.ele", "--no-points", "-q"],
+    );
+    let err = ok(&out);
+    assert!(err.starts_with("mesh time: "), "{err}");
+    // No automatic points: only the 8 input points.
+    let node = std::fs::read_to_string(dir.path().join("n.node")).unwrap();
+    assert!(node.starts_with("8 2 0 1\n"), "{node}");
+}
+
+#[test]
+fn mesh_errors_name_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    // Two crossing diagonals inside the square.
+    let crossing = SQUARE_POLY
+        .replace("8 1\n1 1 2 1", "10 1\n1 1 2 1")
+        .replace("8 8 5 2\n0\n", "8 8 5 2\n9 5 7 3\n10 6 8 3\n0\n");
+    std::fs::write(dir.path().join("x.poly"), crossing).unwrap();
+    let msg = fails(&delmesh(dir.path(), &["mesh", "x.poly", "-o", "x.vtu"]));
+    assert!(
+        msg.contains("x.poly") && msg.contains("segments 9 and 10 intersect"),
+        "{msg}"
+    );
+    std::fs::write(
+        dir.path().join("bad.poly"),
+        SQUARE_POLY.replace("5 5 6 2", "5 5 60 2"),
+    )
+    .unwrap();
+    let msg = fails(&delmesh(dir.path(), &["mesh", "bad.poly", "-o", "x.vtu"]));
+    assert!(
+        msg.contains("bad.poly:16: segment end point 60 does not exist"),
+        "{msg}"
+    );
+    std::fs::write(dir.path().join("sq.poly"), SQUARE_POLY).unwrap();
+    let msg = fails(&delmesh(dir.path(), &["mesh", "sq.poly", "-o", "x.stl"]));
+    assert!(msg.contains("x.stl"), "{msg}");
+    let msg = fails(&delmesh(
+        dir.path(),
+        &["mesh", "sq.poly", "-o", "x.vtu", "--omega", "2"],
+    ));
+    assert!(msg.contains("omega"), "{msg}");
+    let msg = fails(&delmesh(
+        dir.path(),
+        &["mesh", "sq.poly", "-o", "x.vtu", "--alpha=-1"],
+    ));
+    assert!(msg.contains("alpha"), "{msg}");
+}
+
+#[test]
+fn demo_figure8_writes_the_mesh_before_and_after_recovery() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = delmesh(dir.path(), &["demo", "figure8", "-o", "d"]);
+    let err = ok(&out);
+    assert!(stdout(&out).contains("missing"), "{}", stdout(&out));
+    for f in ["figure8-delaunay.svg", "figure8.svg", "figure8.vtu"] {
+        assert!(dir.path().join("d").join(f).is_file(), "{f}: {err}");
+    }
+}
