@@ -150,16 +150,20 @@ impl PointGeneration {
                     });
                 }
                 let reach = self.alpha * h;
+                let reach2 = reach * reach;
+                let dist2 =
+                    |q: [f64; 2]| (q[0] - g[0]) * (q[0] - g[0]) + (q[1] - g[1]) * (q[1] - g[1]);
+                // The element's own nodes first: most candidates fail here, before any walk.
+                if p.iter().any(|&q| dist2(q) <= reach2) {
+                    continue;
+                }
                 let inserted = mesh.cdt.insert_near_if(g, c, |cdt, cell, on_edge| {
                     if cdt.tag(cell) != tag || on_edge.is_some_and(|i| cdt.is_constrained(cell, i))
                     {
                         return false;
                     }
                     let t = cdt.triangulation();
-                    t.cell(cell).iter().all(|&u| {
-                        let q = t.vertex(u);
-                        (q[0] - g[0]).hypot(q[1] - g[1]) > reach
-                    })
+                    t.cell(cell).iter().all(|&u| dist2(t.vertex(u)) > reach2)
                 })?;
                 if let Some(Insertion::Inserted(nv)) = inserted {
                     set(&mut dp, nv, h);

@@ -6,8 +6,12 @@ use std::fmt;
 /// How many times a rejected move is halved before the point is left where it is.
 pub const MAX_HALVINGS: u32 = 4;
 
-/// A move may lower the smallest angle around the point to this fraction of its old value.
-const ANGLE_KEEP: f64 = 0.5;
+/// A move may shrink a triangle around the point to this fraction of its old area, no further.
+const AREA_KEEP: f64 = 0.2;
+
+/// Smoothing stops early once no point moves by more than this fraction of the (root mean
+/// square) length of its edges in a pass.
+const CONVERGED: f64 = 5e-3;
 
 /// Bad smoothing options or input.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -31,7 +35,8 @@ pub struct SmoothStats {
     pub reduced: usize,
     /// Moves refused (would invert or badly degrade an element).
     pub skipped: usize,
-    /// Largest displacement of a point in the last pass.
+    /// Largest displacement of a point in the last pass, relative to the mean length of its
+    /// edges.
     pub last_displacement: f64,
 }
 
@@ -153,6 +158,34 @@ impl Smoother {
                 )));
             }
         }
+        // Work on a copy numbered along a space-filling curve, so that neighbours are close in
+        // memory (the caller's numbering is often far from it), then copy the points back.
+        let order = spatial_order(points);
+        let mut rank = vec![0u32; n];
+        for (i, &v) in order.iter().enumerate() {
+            rank[v as usize] = i as u32;
+        }
+        let mut local: Vec<[f64; 2]> = order.iter().map(|&v| points[v as usize]).collect();
+        let local_fixed: Vec<bool> = order.iter().map(|&v| fixed[v as usize]).collect();
+        let local_tris: Vec<[u32; 3]> = triangles
+            .iter()
+            .map(|t| t.map(|v| rank[v as usize]))
+            .collect();
+        let stats = self.relax(&mut local, &local_tris, &local_fixed);
+        for (i, &v) in order.iter().enumerate() {
+            points[v as usize] = local[i];
+        }
+        Ok(stats)
+    }
+
+    /// The smoothing passes proper, on checked input.
+    fn relax(
+        &self,
+        points: &mut [[f64; 2]],
+        triangles: &[[u32; 3]],
+        fixed: &[bool],
+    ) -> SmoothStats {
+        let n = points.len();
         // Point → triangles, point → neighbours (each edge once per direction).
         let incident = Rows::build(
             n,
@@ -187,22 +220,38 @@ impl Smoother {
                 }
                 let m = ring.len() as f64;
                 let mut step = [self.omega * sx / m, self.omega * sy / m];
-                // The move may lower the smallest angle around v to ANGLE_KEEP of its value;
-                // compared through sines (the smallest angle of a triangle is at most 60°).
-                let before = min_sine_around(points, triangles, incident.row(v));
-                let floor = (ANGLE_KEEP * before.clamp(-1.0, 1.0).asin()).sin();
+                let mut ring_length2 = 0.0;
+                for &u in ring {
+                    let q = points[u as usize];
+                    ring_length2 += (q[0] - x[0]) * (q[0] - x[0]) + (q[1] - x[1]) * (q[1] - x[1]);
+                }
+                ring_length2 /= m;
                 let mut accepted = None;
                 for halving in 0..=MAX_HALVINGS {
                     let y = [x[0] + step[0], x[1] + step[1]];
                     if y == x {
                         break;
                     }
-                    points[v] = y;
+                    // Every triangle around v must stay positive (exact) and keep AREA_KEEP of
+                    // its area: the edge opposite v is fixed, so a triangle's area is linear in
+                    // v's position.
                     let ok = incident.row(v).iter().all(|&k| {
-                        let p = triangles[k as usize].map(|w| points[w as usize]);
-                        orient2d(p[0], p[1], p[2]) == Sign::Positive
-                    }) && min_sine_around(points, triangles, incident.row(v)) >= floor;
+                        let t = triangles[k as usize];
+                        let i = t
+                            .iter()
+                            .position(|&w| w as usize == v)
+                            .expect("v in its triangle");
+                        let (a, b) = (
+                            points[t[(i + 1) % 3] as usize],
+                            points[t[(i + 2) % 3] as usize],
+                        );
+                        let twice = |q: [f64; 2]| {
+                            (a[0] - q[0]) * (b[1] - q[1]) - (a[1] - q[1]) * (b[0] - q[0])
+                        };
+                        twice(y) >= AREA_KEEP * twice(x) && orient2d(y, a, b) == Sign::Positive
+                    });
                     if ok {
+                        points[v] = y;
                         accepted = Some(halving);
                         break;
                     }
@@ -216,44 +265,60 @@ impl Smoother {
                             stats.reduced += 1;
                         }
                         let y = points[v];
-                        largest = largest.max((y[0] - x[0]).hypot(y[1] - x[1]));
+                        let moved2 = (y[0] - x[0]) * (y[0] - x[0]) + (y[1] - x[1]) * (y[1] - x[1]);
+                        largest = largest.max(moved2 / ring_length2);
                     }
-                    None => {
-                        points[v] = x;
-                        stats.skipped += 1;
-                    }
+                    None => stats.skipped += 1,
                 }
             }
-            stats.last_displacement = largest;
-            if largest == 0.0 {
+            stats.last_displacement = largest.sqrt();
+            if stats.last_displacement < CONVERGED {
                 break;
             }
         }
-        Ok(stats)
+        stats
     }
-}
-
-/// The sine of the smallest angle of the given triangles.
-fn min_sine_around(points: &[[f64; 2]], triangles: &[[u32; 3]], ids: &[u32]) -> f64 {
-    ids.iter()
-        .map(|&k| min_sine(triangles[k as usize].map(|w| points[w as usize])))
-        .fold(f64::INFINITY, f64::min)
-}
-
-/// The sine of a triangle's smallest angle: twice its area over the product of its two longest
-/// edges (the smallest angle is opposite the shortest edge and at most 60°).
-fn min_sine(p: [[f64; 2]; 3]) -> f64 {
-    let d = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2);
-    let (e0, e1, e2) = (d(p[1], p[2]), d(p[2], p[0]), d(p[0], p[1]));
-    let shortest = e0.min(e1).min(e2);
-    let twice_area =
-        (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
-    // Product of the two longest = sqrt(e_a · e_b) with e_a e_b = e0 e1 e2 / shortest.
-    twice_area / (e0 * e1 * e2 / shortest).sqrt()
 }
 
 /// The angle at `o` between `u` and `w` (radians).
 pub(crate) fn angle(o: [f64; 2], u: [f64; 2], w: [f64; 2]) -> f64 {
     let (ux, uy, wx, wy) = (u[0] - o[0], u[1] - o[1], w[0] - o[0], w[1] - o[1]);
     (ux * wy - uy * wx).abs().atan2(ux * wx + uy * wy)
+}
+
+/// The points' order along a Z-order (Morton) curve of 16 bits per axis.
+fn spatial_order(points: &[[f64; 2]]) -> Vec<u32> {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let scale = [0, 1].map(|k| {
+        let w = hi[k] - lo[k];
+        if w > 0.0 {
+            65535.0 / w
+        } else {
+            0.0
+        }
+    });
+    let spread = |x: u32| {
+        let mut x = u64::from(x) & 0xFFFF;
+        x = (x | (x << 8)) & 0x00FF_00FF;
+        x = (x | (x << 4)) & 0x0F0F_0F0F;
+        x = (x | (x << 2)) & 0x3333_3333;
+        (x | (x << 1)) & 0x5555_5555
+    };
+    let mut keyed: Vec<(u64, u32)> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let qx = ((p[0] - lo[0]) * scale[0]) as u32;
+            let qy = ((p[1] - lo[1]) * scale[1]) as u32;
+            (spread(qx) | (spread(qy) << 1), i as u32)
+        })
+        .collect();
+    keyed.sort_unstable();
+    keyed.into_iter().map(|(_, i)| i).collect()
 }

@@ -2,9 +2,10 @@
 //!
 //! [`Smoother`] moves every free point towards the mean of its neighbours,
 //! `X ← X + ω·Σ(X_i − X)/M`, for N passes (Gauss–Seidel, in place). A move is kept only if
-//! every triangle around the point stays positively oriented (exact `orient2d`) and its smallest
-//! angle does not drop below half of what it was; otherwise the move is halved, up to
-//! [`MAX_HALVINGS`] times, then skipped. [`QualityReport`] measures a mesh: angles, areas,
+//! every triangle around the point stays positively oriented (exact `orient2d`) and keeps a fifth
+//! of its area (no element is badly degraded); otherwise the move is halved, up to
+//! [`MAX_HALVINGS`] times, then skipped. Passes stop early once every move is below a
+//! thousandth of the local edge length. [`QualityReport`] measures a mesh: angles, areas,
 //! the area ratio of neighbours.
 
 mod laplace;

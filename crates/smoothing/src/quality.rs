@@ -1,7 +1,7 @@
 //! [`QualityReport`]: the figures a CFD engineer checks before running a solver on a mesh.
 
 use crate::laplace::angle;
-use std::collections::HashMap;
+use rayon::slice::ParallelSliceMut;
 use std::fmt;
 
 /// Quality statistics of a triangle mesh.
@@ -67,20 +67,26 @@ impl QualityReport {
         r.mean_min_angle = sum_min / triangles.len() as f64;
         r.min_area = amin;
         r.max_area = amax;
-        let mut first: HashMap<(u32, u32), usize> = HashMap::with_capacity(triangles.len() * 2);
+        // Shared edges: sort the (edge, triangle) pairs so the two sides of an edge meet.
+        let mut sides: Vec<(u64, u32)> = triangles
+            .iter()
+            .enumerate()
+            .flat_map(|(k, t)| {
+                (0..3).map(move |e| {
+                    let (a, b) = (t[e], t[(e + 1) % 3]);
+                    ((u64::from(a.min(b)) << 32) | u64::from(a.max(b)), k as u32)
+                })
+            })
+            .collect();
+        sides.par_sort_unstable();
         let (mut worst, mut sum, mut count) = (1.0f64, 0.0, 0usize);
-        for (k, t) in triangles.iter().enumerate() {
-            for e in 0..3 {
-                let (a, b) = (t[e], t[(e + 1) % 3]);
-                if let Some(j) = first.remove(&(b, a)) {
-                    let (x, y) = (areas[k].abs(), areas[j].abs());
-                    let ratio = x.max(y) / x.min(y);
-                    worst = worst.max(ratio);
-                    sum += ratio;
-                    count += 1;
-                } else {
-                    first.insert((a, b), k);
-                }
+        for w in sides.windows(2) {
+            if w[0].0 == w[1].0 {
+                let (x, y) = (areas[w[0].1 as usize].abs(), areas[w[1].1 as usize].abs());
+                let ratio = x.max(y) / x.min(y);
+                worst = worst.max(ratio);
+                sum += ratio;
+                count += 1;
             }
         }
         r.max_neighbour_area_ratio = worst;
