@@ -352,7 +352,7 @@ fn letters() -> Vec<Vec<[f64; 2]>> {
     d.extend(arc([2.15, 0.6], [0.45, 0.35], 90.0, -90.0, 16));
     d.push([1.95, 0.25]);
     vec![
-        arc([0.75, 0.6], [0.42, 0.35], 50.0, 310.0, 24),
+        arc([0.68, 0.6], [0.4, 0.35], 50.0, 310.0, 24),
         vec![[1.55, 0.95], [1.2, 0.95], [1.2, 0.25]],
         vec![[1.2, 0.62], [1.48, 0.62]],
         d,
@@ -364,22 +364,31 @@ fn letters() -> Vec<Vec<[f64; 2]>> {
 /// (0.12), triangulated by delmesh itself.
 pub fn figure13_cfd() -> (Plc2, BackgroundMesh2) {
     let (fine, coarse) = (0.008, 0.12);
+    // Nodes along the letters carry the fine spacing; the nodes of a regular grid around them
+    // grow from it with the distance to the letters, up to the coarse spacing.
     let mut nodes: Vec<[f64; 2]> = Vec::new();
-    let mut spacing = Vec::new();
-    for i in 0..=12 {
-        for j in 0..=5 {
-            nodes.push([3.0 * i as f64 / 12.0, 1.2 * j as f64 / 5.0]);
-            spacing.push(coarse);
-        }
-    }
     for line in letters() {
         for w in line.windows(2) {
             let (a, b) = (w[0], w[1]);
-            let n = ((b[0] - a[0]).hypot(b[1] - a[1]) / 0.04).ceil().max(1.0) as usize;
+            let n = ((b[0] - a[0]).hypot(b[1] - a[1]) / 0.02).ceil().max(1.0) as usize;
             for k in 0..n {
                 let t = k as f64 / n as f64;
                 nodes.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
-                spacing.push(fine);
+            }
+        }
+    }
+    let mut spacing = vec![fine; nodes.len()];
+    let on_letters = nodes.clone();
+    for i in 0..=24 {
+        for j in 0..=10 {
+            let p = [3.0 * i as f64 / 24.0, 1.2 * j as f64 / 10.0];
+            let d = on_letters
+                .iter()
+                .map(|q| (p[0] - q[0]).hypot(p[1] - q[1]))
+                .fold(f64::INFINITY, f64::min);
+            if d > 0.01 {
+                nodes.push(p);
+                spacing.push((fine + 0.3 * d).min(coarse));
             }
         }
     }

@@ -139,3 +139,29 @@ fn the_aerofoil_quality_target() {
     assert!(worst >= 25.0, "interior minimum angle {worst:.2}°");
     assert!(AEROFOIL_POINTS > 0);
 }
+
+#[test]
+fn demo_counts_and_quality_snapshot() {
+    let mut text = String::new();
+    for name in ["figure8", "figure7", "figure12", "figure13"] {
+        let (plc, options) = mesh_demo_setup(name).unwrap();
+        let run = mesh_plc(&plc, &options).unwrap();
+        let missing: Vec<usize> = run.recovery.passes.iter().map(|p| p.missing).collect();
+        let generated: Vec<usize> = run
+            .generation
+            .as_ref()
+            .map(|g| g.passes.iter().map(|p| p.accepted).collect())
+            .unwrap_or_default();
+        text.push_str(&format!(
+            "{name}: {} points, {} triangles, {} boundary edges; missing per recovery pass {missing:?}; \
+             points per generation pass {generated:?}; refinement {}; min angle {:.1}°, mean of minima {:.1}°\n",
+            run.arrays.coords.len(),
+            run.arrays.triangles.len(),
+            run.arrays.edges.len(),
+            run.refined,
+            run.quality.min_angle,
+            run.quality.mean_min_angle,
+        ));
+    }
+    insta::assert_snapshot!(text);
+}
