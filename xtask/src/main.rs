@@ -11,6 +11,8 @@
 //! - `ref-check [CASE...]`: self-test of the reference side alone (CGAL vs TetGen).
 //! - `ref-bench [--repeat N] [CASE...]`: timing and peak memory of the reference
 //!   tools alone.
+//! - `cdt [--quick]`: delmesh's Steiner-free 2D mesh of seeded polygons with holes against
+//!   CGAL's constrained Delaunay triangulation (identical triangles required), with times.
 //! - `gen [--out DIR] CASE...`: just write the cases' `.node` files.
 //! - `cases`: list the case families.
 //!
@@ -23,6 +25,7 @@ mod cases;
 mod delmesh;
 mod exact;
 mod formats;
+mod plc;
 mod reference;
 mod report;
 mod validate;
@@ -54,6 +57,9 @@ commands:
                                   median-of-N build time and peak memory of the reference
                                   tools (default N=3; default cases: uniform3d-100k,
                                   uniform3d-1m, uniform2d-100k, uniform2d-1m, grid3d-100)
+  cdt [--quick]                   2D constrained Delaunay meshes of seeded polygons with
+                                  holes (and free points): delmesh's triangles must equal
+                                  CGAL's; prints both tools' times
   gen [--out DIR] CASE...         write the cases' .node files (default DIR target/xtask/cases)
   cases                           list the case families and their sizes
   help                            this text
@@ -138,6 +144,13 @@ fn run() -> Result<()> {
                 .unwrap_or(3)
                 .max(1);
             ref_bench(&ctx, &case_list(&rest, REF_BENCH)?, repeat)
+        }
+        "cdt" => {
+            let quick = rest.iter().any(|a| a == "--quick");
+            if let Some(a) = rest.iter().find(|a| *a != "--quick") {
+                bail!("cdt: unknown argument `{a}`\n{HELP}");
+            }
+            plc::cdt(&ctx, quick)
         }
         "gen" => {
             let (out, rest) = take_option(rest, "--out")?;

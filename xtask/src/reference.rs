@@ -120,10 +120,16 @@ const CXX_LIBS: &[&str] = &["-lmpfr", "-lgmp"];
 /// binary is missing, older than the source, or built with other flags (recorded in
 /// `cgal-delaunay.flags`), and returns the binary's path.
 pub fn build_cgal_driver(root: &Path) -> Result<PathBuf> {
-    let src = root.join("xtask/cgal/delaunay.cpp");
+    build_cgal_program(root, "delaunay")
+}
+
+/// Compiles `xtask/cgal/<name>.cpp` into `target/xtask/cgal-<name>` (see
+/// [`build_cgal_driver`]).
+pub fn build_cgal_program(root: &Path, name: &str) -> Result<PathBuf> {
+    let src = root.join(format!("xtask/cgal/{name}.cpp"));
     let out_dir = root.join("target/xtask");
-    let bin = out_dir.join("cgal-delaunay");
-    let stamp = out_dir.join("cgal-delaunay.flags");
+    let bin = out_dir.join(format!("cgal-{name}"));
+    let stamp = out_dir.join(format!("cgal-{name}.flags"));
     let flags = format!("g++ {} {}", CXX_FLAGS.join(" "), CXX_LIBS.join(" "));
     let src_time = mtime(&src).with_context(|| format!("missing {}", src.display()))?;
     let fresh = mtime(&bin).is_some_and(|b| b >= src_time);
@@ -131,7 +137,7 @@ pub fn build_cgal_driver(root: &Path) -> Result<PathBuf> {
         return Ok(bin);
     }
     fs::create_dir_all(&out_dir)?;
-    let tmp = out_dir.join("cgal-delaunay.tmp");
+    let tmp = out_dir.join(format!("cgal-{name}.tmp"));
     eprintln!("xtask: compiling {} (takes ~30 s)", src.display());
     run_checked(
         Command::new("g++")

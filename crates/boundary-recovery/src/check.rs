@@ -37,9 +37,22 @@ struct Grid {
 }
 
 impl Grid {
-    /// Buckets each item's bounding box.
+    /// Buckets each item's bounding box. Cells are about as large as the mean box (so long
+    /// segments touch few cells) and there are about as many as items.
     fn new(boxes: &[([f64; 2], [f64; 2])], lo: [f64; 2], hi: [f64; 2]) -> Grid {
-        let side = ((boxes.len() as f64).sqrt().ceil() as usize).clamp(1, 1024);
+        let mean = boxes
+            .iter()
+            .map(|b| (b.1[0] - b.0[0]).max(b.1[1] - b.0[1]))
+            .sum::<f64>()
+            / boxes.len().max(1) as f64;
+        let extent = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        let by_count = (boxes.len() as f64).sqrt().ceil();
+        let by_size = if mean > 0.0 {
+            (extent / mean).ceil()
+        } else {
+            by_count
+        };
+        let side = (by_count.min(by_size) as usize).clamp(1, 1024);
         let dims = [side, side];
         let inv = [0, 1].map(|k| {
             let w = hi[k] - lo[k];
@@ -126,7 +139,11 @@ fn segments_intersect(p: [f64; 2], q: [f64; 2], r: [f64; 2], s: [f64; 2]) -> boo
 }
 
 /// Checks `plc` (see the module docs).
-pub(crate) fn check(plc: &Plc2) -> Result<CheckedPlc, RecoveryError> {
+///
+/// With `geometric` false the costliest checks, points inside segments and crossing segments,
+/// are skipped: the Steiner-free recovery finds both itself, exactly, while inserting the
+/// segments.
+pub(crate) fn check(plc: &Plc2, geometric: bool) -> Result<CheckedPlc, RecoveryError> {
     let base = u64::from(plc.first_index);
     let name = |i: usize| i as u64 + base;
     let n = plc.points.len();
@@ -208,7 +225,7 @@ pub(crate) fn check(plc: &Plc2) -> Result<CheckedPlc, RecoveryError> {
         .iter()
         .map(|s| bbox(pts[s.a as usize], pts[s.b as usize]))
         .collect();
-    if segments.is_empty() {
+    if segments.is_empty() || !geometric {
         return Ok(CheckedPlc {
             points: plc.points.clone(),
             segments,
@@ -267,7 +284,8 @@ pub(crate) fn check(plc: &Plc2) -> Result<CheckedPlc, RecoveryError> {
             });
             split_origin.push(origin[si]);
         }
-        return check_crossings(plc, split_segments, split_origin, lo, hi);
+        segments = split_segments;
+        origin = split_origin;
     }
     check_crossings(plc, segments, origin, lo, hi)
 }

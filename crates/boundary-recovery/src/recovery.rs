@@ -176,7 +176,7 @@ impl BoundaryRecovery {
     /// # Errors
     /// Invalid input (see [`RecoveryError`]), or a domain with no element inside.
     pub fn run(&self, plc: &Plc2) -> Result<Mesh2, RecoveryError> {
-        let checked = check(plc)?;
+        let checked = check(plc, self.method != RecoveryMethod::Constrained)?;
         let n_input = checked.points.len();
         let mut points = checked.points.clone();
         points.extend_from_slice(&self.extra_points);
@@ -228,9 +228,19 @@ impl BoundaryRecovery {
                     .filter(|s| cdt.find_edge(s.a, s.b).is_none())
                     .count();
                 history.passes.push(pass);
-                for s in &state.subs {
-                    cdt.insert_segment(s.a, s.b)
-                        .map_err(|e| state.constraint_error(e, s.segment))?;
+                // A vertex found inside a segment splits it there (as the input checks do for
+                // the other methods).
+                let mut work: Vec<Sub> = std::mem::take(&mut state.subs);
+                work.reverse();
+                while let Some(s) = work.pop() {
+                    match cdt.insert_segment(s.a, s.b) {
+                        Ok(()) => state.subs.push(s),
+                        Err(ConstraintError::VertexOnSegment { vertex, .. }) => {
+                            work.push(Sub { a: vertex, ..s });
+                            work.push(Sub { b: vertex, ..s });
+                        }
+                        Err(e) => return Err(state.constraint_error(e, s.segment)),
+                    }
                 }
                 history.passes.push(state.pass_of(cdt.triangulation(), 0));
                 cdt
