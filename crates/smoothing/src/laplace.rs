@@ -187,13 +187,15 @@ impl Smoother {
     ) -> SmoothStats {
         let n = points.len();
         // Point → triangles, point → neighbours (each edge once per direction).
-        let incident = Rows::build(
-            n,
+        // For each point, the edges opposite it in its triangles, counter-clockwise: two row
+        // sets filled in the same order (first and second end of each edge).
+        let corners = || {
             triangles
                 .iter()
-                .enumerate()
-                .flat_map(|(k, t)| t.iter().map(move |&v| (v, k as u32))),
-        );
+                .flat_map(|t| (0..3).map(move |i| (t[i], t[(i + 1) % 3], t[(i + 2) % 3])))
+        };
+        let opposite_a = Rows::build(n, corners().map(|(v, a, _)| (v, a)));
+        let opposite_b = Rows::build(n, corners().map(|(v, _, b)| (v, b)));
         let mut pairs: Vec<(u32, u32)> = triangles
             .iter()
             .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
@@ -235,21 +237,17 @@ impl Smoother {
                     // Every triangle around v must stay positive (exact) and keep AREA_KEEP of
                     // its area: the edge opposite v is fixed, so a triangle's area is linear in
                     // v's position.
-                    let ok = incident.row(v).iter().all(|&k| {
-                        let t = triangles[k as usize];
-                        let i = t
-                            .iter()
-                            .position(|&w| w as usize == v)
-                            .expect("v in its triangle");
-                        let (a, b) = (
-                            points[t[(i + 1) % 3] as usize],
-                            points[t[(i + 2) % 3] as usize],
-                        );
-                        let twice = |q: [f64; 2]| {
-                            (a[0] - q[0]) * (b[1] - q[1]) - (a[1] - q[1]) * (b[0] - q[0])
-                        };
-                        twice(y) >= AREA_KEEP * twice(x) && orient2d(y, a, b) == Sign::Positive
-                    });
+                    let ok = opposite_a
+                        .row(v)
+                        .iter()
+                        .zip(opposite_b.row(v))
+                        .all(|(&ia, &ib)| {
+                            let (a, b) = (points[ia as usize], points[ib as usize]);
+                            let twice = |q: [f64; 2]| {
+                                (a[0] - q[0]) * (b[1] - q[1]) - (a[1] - q[1]) * (b[0] - q[0])
+                            };
+                            twice(y) >= AREA_KEEP * twice(x) && orient2d(y, a, b) == Sign::Positive
+                        });
                     if ok {
                         points[v] = y;
                         accepted = Some(halving);
