@@ -11,7 +11,9 @@
 //! let points = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
 //! let segments = (0..4).map(|i| Segment { a: i, b: (i + 1) % 4, marker: 1 }).collect();
 //! let plc = Plc2 { points, segments, ..Default::default() };
-//! let run = mesh_plc(&plc, &MeshOptions2::default())?;
+//! // Four boundary points 1 apart give a spacing of 1: α = 0.3 asks for points 0.3 apart.
+//! let generation = Some(delmesh::point_gen::PointGeneration { alpha: 0.3, ..Default::default() });
+//! let run = mesh_plc(&plc, &MeshOptions2 { generation, ..Default::default() })?;
 //! assert!(run.arrays.triangles.len() > 2);
 //! assert!((run.mesh.area() - 1.0).abs() < 1e-12);
 //! # Ok::<(), delmesh::Error>(())
