@@ -1,6 +1,7 @@
 //! [`Smoother`]: Laplacian smoothing of a 2D triangle mesh given as flat arrays.
 
 use delmesh_predicates::{orient2d, Sign};
+use rayon::prelude::*;
 use std::fmt;
 
 /// How many times a rejected move is halved before the point is left where it is.
@@ -205,68 +206,36 @@ impl Smoother {
         pairs.dedup();
         let neighbours = Rows::build(n, pairs.iter().copied());
 
+        // Points of one colour share no edge, so within a colour every move reads only points
+        // that do not move: they are computed in parallel and applied together, which is
+        // Gauss–Seidel in colour order, whatever the number of threads.
+        let classes = colour_classes(&neighbours, fixed);
         let mut stats = SmoothStats::default();
         for _ in 0..self.iterations {
             stats.passes += 1;
             let mut largest = 0.0f64;
-            for v in 0..n {
-                if fixed[v] || neighbours.row(v).is_empty() {
-                    continue;
-                }
-                let x = points[v];
-                let ring = neighbours.row(v);
-                let (mut sx, mut sy) = (0.0, 0.0);
-                for &u in ring {
-                    sx += points[u as usize][0] - x[0];
-                    sy += points[u as usize][1] - x[1];
-                }
-                let m = ring.len() as f64;
-                let mut step = [self.omega * sx / m, self.omega * sy / m];
-                let mut ring_length2 = 0.0;
-                for &u in ring {
-                    let q = points[u as usize];
-                    ring_length2 += (q[0] - x[0]) * (q[0] - x[0]) + (q[1] - x[1]) * (q[1] - x[1]);
-                }
-                ring_length2 /= m;
-                let mut accepted = None;
-                for halving in 0..=MAX_HALVINGS {
-                    let y = [x[0] + step[0], x[1] + step[1]];
-                    if y == x {
-                        break;
-                    }
-                    // Every triangle around v must stay positive (exact) and keep AREA_KEEP of
-                    // its area: the edge opposite v is fixed, so a triangle's area is linear in
-                    // v's position.
-                    let ok = opposite_a
-                        .row(v)
-                        .iter()
-                        .zip(opposite_b.row(v))
-                        .all(|(&ia, &ib)| {
-                            let (a, b) = (points[ia as usize], points[ib as usize]);
-                            let twice = |q: [f64; 2]| {
-                                (a[0] - q[0]) * (b[1] - q[1]) - (a[1] - q[1]) * (b[0] - q[0])
-                            };
-                            twice(y) >= AREA_KEEP * twice(x) && orient2d(y, a, b) == Sign::Positive
-                        });
-                    if ok {
-                        points[v] = y;
-                        accepted = Some(halving);
-                        break;
-                    }
-                    step = [0.5 * step[0], 0.5 * step[1]];
-                }
-                match accepted {
-                    Some(h) => {
-                        if h == 0 {
-                            stats.moved += 1;
-                        } else {
-                            stats.reduced += 1;
+            for class in &classes {
+                let moves: Vec<(u32, Option<([f64; 2], u32)>, f64)> = class
+                    .par_iter()
+                    .map(|&v| {
+                        let (mv, ratio) =
+                            self.propose(points, v as usize, &neighbours, &opposite_a, &opposite_b);
+                        (v, mv, ratio)
+                    })
+                    .collect();
+                for (v, mv, ratio) in moves {
+                    match mv {
+                        Some((y, halving)) => {
+                            points[v as usize] = y;
+                            if halving == 0 {
+                                stats.moved += 1;
+                            } else {
+                                stats.reduced += 1;
+                            }
+                            largest = largest.max(ratio);
                         }
-                        let y = points[v];
-                        let moved2 = (y[0] - x[0]) * (y[0] - x[0]) + (y[1] - x[1]) * (y[1] - x[1]);
-                        largest = largest.max(moved2 / ring_length2);
+                        None => stats.skipped += 1,
                     }
-                    None => stats.skipped += 1,
                 }
             }
             stats.last_displacement = largest.sqrt();
@@ -276,6 +245,93 @@ impl Smoother {
         }
         stats
     }
+}
+
+impl Smoother {
+    /// The move of free point `v` towards the mean of its neighbours, halved until every
+    /// triangle around it stays positive (exact) and keeps [`AREA_KEEP`] of its area (the edge
+    /// opposite `v` is fixed, so a triangle's area is linear in `v`'s position): the new
+    /// position and the number of halvings, or `None` if refused; and the squared move over the
+    /// mean squared length of `v`'s edges.
+    fn propose(
+        &self,
+        points: &[[f64; 2]],
+        v: usize,
+        neighbours: &Rows,
+        opposite_a: &Rows,
+        opposite_b: &Rows,
+    ) -> (Option<([f64; 2], u32)>, f64) {
+        let x = points[v];
+        let ring = neighbours.row(v);
+        let (mut sx, mut sy, mut ring_length2) = (0.0, 0.0, 0.0);
+        for &u in ring {
+            let q = points[u as usize];
+            sx += q[0] - x[0];
+            sy += q[1] - x[1];
+            ring_length2 += (q[0] - x[0]) * (q[0] - x[0]) + (q[1] - x[1]) * (q[1] - x[1]);
+        }
+        let m = ring.len() as f64;
+        let mut step = [self.omega * sx / m, self.omega * sy / m];
+        for halving in 0..=MAX_HALVINGS {
+            let y = [x[0] + step[0], x[1] + step[1]];
+            if y == x {
+                return (Some((x, halving)), 0.0);
+            }
+            let ok = opposite_a
+                .row(v)
+                .iter()
+                .zip(opposite_b.row(v))
+                .all(|(&ia, &ib)| {
+                    let (a, b) = (points[ia as usize], points[ib as usize]);
+                    let twice =
+                        |q: [f64; 2]| (a[0] - q[0]) * (b[1] - q[1]) - (a[1] - q[1]) * (b[0] - q[0]);
+                    twice(y) >= AREA_KEEP * twice(x) && orient2d(y, a, b) == Sign::Positive
+                });
+            if ok {
+                let moved2 = step[0] * step[0] + step[1] * step[1];
+                return (Some((y, halving)), moved2 / (ring_length2 / m));
+            }
+            step = [0.5 * step[0], 0.5 * step[1]];
+        }
+        (None, 0.0)
+    }
+}
+
+/// The free points with neighbours, in classes of one colour each: a greedy colouring of the
+/// neighbour graph, so no two points of a class share an edge. Points are in increasing order
+/// within a class (memory order, which is spatial).
+fn colour_classes(neighbours: &Rows, fixed: &[bool]) -> Vec<Vec<u32>> {
+    let n = fixed.len();
+    let mut colour = vec![u8::MAX; n];
+    let mut classes: Vec<Vec<u32>> = Vec::new();
+    for v in 0..n {
+        if fixed[v] || neighbours.row(v).is_empty() {
+            continue;
+        }
+        let mut used = 0u64;
+        for &u in neighbours.row(v) {
+            let c = colour[u as usize];
+            if c < 64 {
+                used |= 1 << c;
+            }
+        }
+        let c = (!used).trailing_zeros() as usize;
+        // More than 64 colours would need a degree over 63 on every colour; fall back to a
+        // class of its own beyond that (still correct: the point then moves alone).
+        let c = c.min(63);
+        if c < 63 {
+            colour[v] = c as u8;
+        }
+        if classes.len() <= c {
+            classes.resize(c + 1, Vec::new());
+        }
+        if c == 63 {
+            classes.push(vec![v as u32]);
+        } else {
+            classes[c].push(v as u32);
+        }
+    }
+    classes
 }
 
 /// The angle at `o` between `u` and `w` (radians).
