@@ -28,12 +28,14 @@ mod classify;
 mod error;
 mod mesh;
 mod plc;
+mod plc3;
 mod recovery;
 
 pub use classify::OUTSIDE;
 pub use error::RecoveryError;
 pub use mesh::MeshArrays;
 pub use plc::{Plc2, RegionSeed, Segment};
+pub use plc3::{Plc3, RegionSeed3, SurfaceTriangle};
 pub use recovery::{
     BoundaryEdge, BoundaryRecovery, Mesh2, RecoveryHistory, RecoveryMethod, RecoveryPass,
 };
