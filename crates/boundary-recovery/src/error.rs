@@ -60,10 +60,47 @@ pub enum RecoveryError {
         /// Splits made on it.
         splits: usize,
     },
+    /// A surface triangle names a point that does not exist.
+    #[error("facet {facet}: point {point} does not exist ({n_points} points)")]
+    BadFacetPoint {
+        /// The facet.
+        facet: u64,
+        /// The missing point's number.
+        point: u64,
+        /// How many points the input has.
+        n_points: usize,
+    },
+    /// A surface triangle has two equal corners (or corners at the same coordinates).
+    #[error("facet {facet} is degenerate: two of its corners coincide")]
+    DegenerateFacet {
+        /// The facet.
+        facet: u64,
+    },
+    /// 3D boundary recovery did not finish within its bound of added points, or a
+    /// sub-segment became too short to split in double precision.
+    #[error(
+        "the surface could not be recovered ({added} points added); facets that resisted: {}",
+        list(facets)
+    )]
+    SurfaceNotRecovered {
+        /// The facets still missing sub-faces or sub-segments (input numbering).
+        facets: Vec<u64>,
+        /// Points added before giving up.
+        added: usize,
+    },
     /// After removing the exterior and the holes nothing is left.
     #[error(
         "no element is inside the domain: the segments must form closed loops around it \
          (or check the hole seeds)"
     )]
     EmptyDomain,
+}
+
+/// Up to ten numbers, then how many more.
+fn list(items: &[u64]) -> String {
+    let mut s: Vec<String> = items.iter().take(10).map(u64::to_string).collect();
+    if items.len() > 10 {
+        s.push(format!("and {} more", items.len() - 10));
+    }
+    s.join(", ")
 }

@@ -25,17 +25,24 @@
 
 mod check;
 mod classify;
+mod classify3;
 mod error;
 mod mesh;
+mod mesh3;
 mod plc;
 mod plc3;
 mod recovery;
+mod recovery3;
 
 pub use classify::OUTSIDE;
 pub use error::RecoveryError;
 pub use mesh::MeshArrays;
+pub use mesh3::{tet_volume, MeshArrays3};
 pub use plc::{Plc2, RegionSeed, Segment};
 pub use plc3::{Plc3, RegionSeed3, SurfaceTriangle};
 pub use recovery::{
     BoundaryEdge, BoundaryRecovery, Mesh2, RecoveryHistory, RecoveryMethod, RecoveryPass,
+};
+pub use recovery3::{
+    BoundaryFace, BoundaryRecovery3, Mesh3, RecoveryHistory3, RecoveryMethod3, RecoveryStep,
 };

@@ -17,18 +17,22 @@
 #![forbid(unsafe_code)]
 
 mod constrained;
+mod constrained3;
 mod dim;
 mod error;
 mod ids;
 mod sort;
+mod star;
 mod triangulation;
 mod validate;
 mod voronoi;
 
 pub use constrained::ConstrainedTriangulation2;
+pub use constrained3::{find_face_in, ConstrainedTriangulation3};
 pub use dim::{Dim, D2, D3};
 pub use error::{ConstraintError, TriangulationError, ValidationError};
 pub use ids::{CellId, FacetRef, VertexId};
+pub use star::StarSearch;
 pub use triangulation::{Insertion, Location, Triangulation};
 pub use voronoi::{VoronoiCell2, VoronoiDiagram, VoronoiFace3};
 

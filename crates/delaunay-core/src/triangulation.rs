@@ -81,7 +81,7 @@ pub(crate) struct Cavity {
     stack: Vec<CellId>,
     /// Boundary facets: the new cell's vertices (the cavity cell's vertices with the new point
     /// at `apex`), and the facet of the outside neighbour it is glued to.
-    boundary: Vec<BoundaryFacet>,
+    pub(crate) boundary: Vec<BoundaryFacet>,
     /// Matches the facets shared by new cells (huge cavities).
     ridges: RidgeTable,
     /// The cavity's boundary vertices, indexed by their local number.
@@ -91,7 +91,9 @@ pub(crate) struct Cavity {
     /// Dense directed-ridge table: `nv × nv` (3D) or `2 × nv` (2D) entries.
     ridge_slots: Vec<FacetRef>,
     /// The cells made for the boundary facets, in the same order.
-    new_cells: Vec<CellId>,
+    pub(crate) new_cells: Vec<CellId>,
+    /// Every cell whose mark a blocked cavity search set (see `insert_blocked`).
+    touched: Vec<CellId>,
 }
 
 /// Cavity search marks: not visited, in conflict, tested and not in conflict.
@@ -117,10 +119,10 @@ fn facet_of<D: Dim>(apex: usize) -> [usize; 3] {
 }
 
 #[derive(Clone, Copy, Debug)]
-struct BoundaryFacet {
-    vertices: [VertexId; 4],
-    apex: u8,
-    outside: FacetRef,
+pub(crate) struct BoundaryFacet {
+    pub(crate) vertices: [VertexId; 4],
+    pub(crate) apex: u8,
+    pub(crate) outside: FacetRef,
 }
 
 /// Open-addressing table pairing the two new cells that share a ridge (a vertex in 2D, an edge
@@ -593,6 +595,84 @@ impl<D: Dim> Triangulation<D> {
         self.cavity = cavity;
     }
 
+    /// Bowyer–Watson insertion of the internal point `p` whose cavity never crosses a facet
+    /// for which `blocked` is true (a protected boundary face): the insertion step of a
+    /// constrained Delaunay triangulation. `start` is the finite cell containing `p` (from a
+    /// walk). If `p` does not see every boundary facet of that cavity strictly (it lies on a
+    /// blocked facet, or a blocked facet of a non-convex boundary faces away from it), nothing
+    /// changes and `None` is returned: shrinking the cavity instead would leave cells whose
+    /// circumsphere holds `p`. After success, `self.cavity.boundary[k]` is the facet
+    /// `self.cavity.new_cells[k]` was built on, for the caller's per-cell data.
+    pub(crate) fn insert_blocked(
+        &mut self,
+        p: D::Point,
+        input: u32,
+        start: CellId,
+        blocked: impl Fn(FacetRef) -> bool,
+    ) -> Option<VertexId> {
+        let mut cavity = std::mem::take(&mut self.cavity);
+        cavity.touched.clear();
+        cavity.cells.clear();
+        cavity.stack.clear();
+        cavity.boundary.clear();
+        let v = VertexId(self.input_index.len() as u32);
+        cavity.stack.push(start);
+        cavity.cells.push(start);
+        cavity.touched.push(start);
+        self.mark[start.index()] = INSIDE;
+        let mut star_shaped = true;
+        'search: while let Some(c) = cavity.stack.pop() {
+            let cell = self.simplices[c.index()];
+            for f in 0..D::C {
+                let across = cell.n[f];
+                let n = across.cell();
+                let m = self.mark[n.index()];
+                if m == INSIDE {
+                    continue;
+                }
+                if m == UNSEEN && !blocked(FacetRef::new(c, f)) {
+                    cavity.touched.push(n);
+                    if self.in_conflict(n, p, v) {
+                        self.mark[n.index()] = INSIDE;
+                        cavity.cells.push(n);
+                        cavity.stack.push(n);
+                        continue;
+                    }
+                    self.mark[n.index()] = OUTSIDE;
+                }
+                // A boundary facet: the new cell on it must be positive.
+                if !cell.v[..D::C].contains(&VertexId::GHOST)
+                    && D::orient_replacing(&self.points, &cell.v, f, p) != Sign::Positive
+                {
+                    star_shaped = false;
+                    break 'search;
+                }
+                let mut vertices = cell.v;
+                vertices[f] = v;
+                cavity.boundary.push(BoundaryFacet {
+                    vertices,
+                    apex: f as u8,
+                    outside: across,
+                });
+            }
+        }
+        for &c in &cavity.touched {
+            self.mark[c.index()] = UNSEEN;
+        }
+        if !star_shaped {
+            self.cavity = cavity;
+            return None;
+        }
+        for &c in &cavity.cells {
+            self.mark[c.index()] = INSIDE;
+        }
+        self.cavity = cavity;
+        let pushed = self.push_vertex(p, input);
+        debug_assert_eq!(pushed, v);
+        self.fill_cavity();
+        Some(v)
+    }
+
     /// Steps 6–8: one new cell per boundary facet (the facet joined to the new vertex), glued to
     /// the outside neighbour and to each other; the cavity's cells are reused first.
     fn fill_cavity(&mut self) {
@@ -714,10 +794,12 @@ impl<D: Dim> Triangulation<D> {
         let mut cavity = std::mem::take(&mut self.cavity);
         // (Marks were reset by `fill_cavity`, which hands over to this.)
         cavity.ridges.reset(cavity.boundary.len() * (D::C - 1));
+        cavity.new_cells.clear();
         let mut last = None;
         let mut last_finite = None;
         for b in &cavity.boundary {
             let c = self.glue_new_cell(b);
+            cavity.new_cells.push(c);
             let apex = b.apex as usize;
             for j in 0..D::C {
                 if j != apex {

@@ -1,0 +1,936 @@
+//! [`BoundaryRecovery3`]: from a [`Plc3`] to a boundary-conforming tetrahedral [`Mesh3`]
+//! (the paper's §4.1 in 3D: R6, R8, R9).
+//!
+//! The surface points (and any field points given) are triangulated; then the paper's edge and
+//! face checking runs until every surface triangle is a union of faces of the tetrahedralisation:
+//!
+//! 1. **Edges.** Every surface edge (a *segment*) must be a union of tetrahedron edges. Each
+//!    missing sub-segment is split, and the passes repeat until none is missing. The split is
+//!    the mid-point, except next to an input vertex, where it is the point at the power-of-two
+//!    distance from that vertex nearest the middle (the concentric shells of Ruppert and
+//!    Shewchuk): segments that meet at a small angle are then split at equal distances from
+//!    their shared vertex and stop hiding each other's sub-segments, which is what makes the
+//!    splitting end.
+//! 2. **Faces.** Each surface triangle (a *facet*) is divided into sub-faces: the Delaunay
+//!    triangulation, in the facet's plane, of its corners, the points on its edges and the points
+//!    added inside it, constrained to its sub-segments. Where the tetrahedralisation chose the
+//!    other diagonal of a (nearly) co-circular quadrilateral, the sub-faces follow it. A missing
+//!    sub-face gets the paper's centroid point, and the edges are checked again (a point on a
+//!    face can hide a nearby sub-segment).
+//!
+//! Every point added lies on the input surface (to rounding): sub-segment points are placed by
+//! their parameter along the input edge, face points by barycentric coordinates in the input
+//! triangle, so no error accumulates. The number of added points is bounded
+//! ([`BoundaryRecovery3::max_steiner_points`]); past the bound, or when a sub-segment gets
+//! shorter than double precision can split, recovery stops with an error naming the facets
+//! that resisted instead of looping.
+//!
+//! The recovered faces are then protected ([`ConstrainedTriangulation3`]) and the cells are
+//! classified by the flood fill of [`crate::classify3`].
+
+use crate::classify3::{classify3, OUTSIDE};
+use crate::error::RecoveryError;
+use crate::plc3::Plc3;
+use delmesh_delaunay_core::{
+    find_face_in, CellId, ConstrainedTriangulation2, ConstrainedTriangulation3, Insertion,
+    StarSearch, Triangulation2, Triangulation3, VertexId,
+};
+use delmesh_predicates::{orient2d, Sign};
+use std::collections::HashMap;
+use std::fmt;
+
+/// How the surface is recovered.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RecoveryMethod3 {
+    /// The paper's a-posteriori edge and face checking (R6).
+    #[default]
+    Conforming,
+}
+
+/// One step of the recovery history: the rows of the paper's Table 2.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RecoveryStep {
+    /// One pass of edge checking.
+    Edges {
+        /// Vertices in the triangulation at the start of the pass.
+        points: usize,
+        /// Tetrahedra (finite cells, exterior included) at the start of the pass.
+        tetrahedra: usize,
+        /// Surface edges (sub-segments) to be present.
+        surface_edges: usize,
+        /// Of those, how many were missing.
+        missing_edges: usize,
+    },
+    /// One pass of face checking.
+    Faces {
+        /// Surface sub-faces to be present.
+        surface_faces: usize,
+        /// Of those, how many were missing.
+        missing_faces: usize,
+    },
+}
+
+/// What 3D recovery did, in the shape of the paper's Table 2.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct RecoveryHistory3 {
+    /// The method used.
+    pub method: RecoveryMethod3,
+    /// Distinct surface points of the input.
+    pub surface_points: usize,
+    /// Field points given with the surface (after duplicates are merged).
+    pub field_points: usize,
+    /// Surface triangles of the input.
+    pub surface_faces: usize,
+    /// Edges of the input surface.
+    pub surface_edges: usize,
+    /// Tetrahedra of the first triangulation (all points, before recovery).
+    pub initial_tetrahedra: usize,
+    /// The passes, in order.
+    pub steps: Vec<RecoveryStep>,
+    /// Points added on surface edges.
+    pub edge_points: usize,
+    /// Points added inside surface faces.
+    pub face_points: usize,
+    /// Sub-segments at the end (surface edges of the mesh).
+    pub final_surface_edges: usize,
+    /// Sub-faces at the end (boundary triangles of the mesh).
+    pub final_surface_faces: usize,
+    /// Tetrahedra outside the domain (and in holes) after classification.
+    pub tetrahedra_outside: usize,
+    /// Tetrahedra inside the domain after classification.
+    pub tetrahedra_inside: usize,
+}
+
+impl RecoveryHistory3 {
+    /// Points added on the surface, in total.
+    pub fn points_added(&self) -> usize {
+        self.edge_points + self.face_points
+    }
+}
+
+impl fmt::Display for RecoveryHistory3 {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let row = |f: &mut fmt::Formatter<'_>, label: &str, n: usize| -> fmt::Result {
+            writeln!(f, "{label:<40}{n:>10}")
+        };
+        writeln!(f, "INPUT DATA")?;
+        row(f, "No. of surface points:", self.surface_points)?;
+        row(f, "No. of field points:", self.field_points)?;
+        row(f, "No. of surface faces:", self.surface_faces)?;
+        row(f, "No. of surface edges:", self.surface_edges)?;
+        row(f, "No. of tetrahedra obtained:", self.initial_tetrahedra)?;
+        writeln!(
+            f,
+            "After triangulation of all points: Edge recovery history"
+        )?;
+        let header = |f: &mut fmt::Formatter<'_>| {
+            writeln!(
+                f,
+                "{:>9} {:>9} {:>11} {:>14} {:>14}",
+                "Iteration", "Points", "Tetrahedra", "Surface Edges", "Missing Edges"
+            )
+        };
+        header(f)?;
+        let mut iteration = 0;
+        let mut pending_faces: Option<(usize, usize)> = None;
+        let mut points_before_faces = 0;
+        for step in &self.steps {
+            match *step {
+                RecoveryStep::Edges {
+                    points,
+                    tetrahedra,
+                    surface_edges,
+                    missing_edges,
+                } => {
+                    if let Some((missing, _)) = pending_faces.take() {
+                        writeln!(
+                            f,
+                            "To seal {missing} missing faces add: {} points",
+                            points - points_before_faces
+                        )?;
+                        header(f)?;
+                    }
+                    iteration += 1;
+                    writeln!(
+                        f,
+                        "{iteration:>9} {points:>9} {tetrahedra:>11} {surface_edges:>14} {missing_edges:>14}"
+                    )?;
+                    points_before_faces = points;
+                }
+                RecoveryStep::Faces {
+                    surface_faces,
+                    missing_faces,
+                } => {
+                    if missing_faces == 0 {
+                        writeln!(f, "To seal missing faces add: 0 points")?;
+                        writeln!(f, "All {surface_faces} surface faces recovered")?;
+                    } else {
+                        pending_faces = Some((missing_faces, surface_faces));
+                    }
+                }
+            }
+        }
+        row(
+            f,
+            "No. of tetrahedra outside domain:",
+            self.tetrahedra_outside,
+        )?;
+        row(
+            f,
+            "No. of tetrahedra inside domain:",
+            self.tetrahedra_inside,
+        )?;
+        writeln!(f, "SUMMARY")?;
+        row(f, "No. of surface points added:", self.points_added())?;
+        row(f, "  on edges:", self.edge_points)?;
+        row(f, "  inside faces:", self.face_points)?;
+        row(
+            f,
+            "No. of surface edges added:",
+            self.final_surface_edges.saturating_sub(self.surface_edges),
+        )?;
+        row(
+            f,
+            "No. of additional surface faces:",
+            self.final_surface_faces.saturating_sub(self.surface_faces),
+        )?;
+        row(
+            f,
+            "No. of surface points:",
+            self.surface_points + self.points_added(),
+        )?;
+        row(f, "No. of field points:", self.field_points)?;
+        row(f, "No. of surface faces:", self.final_surface_faces)?;
+        row(f, "No. of surface edges:", self.final_surface_edges)?;
+        row(f, "No. of tetrahedra:", self.tetrahedra_inside)
+    }
+}
+
+/// A boundary triangle of the mesh: a sub-face of an input surface triangle, oriented like it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BoundaryFace {
+    /// The corners, in the input triangle's orientation.
+    pub v: [VertexId; 3],
+    /// The input triangle's boundary marker.
+    pub marker: i32,
+    /// The input facet (0-based) it belongs to.
+    pub facet: u32,
+}
+
+/// A boundary-conforming tetrahedralisation of a [`Plc3`]: the value the later stages (point
+/// generation, smoothing, output) work on.
+///
+/// It keeps the whole tetrahedralisation of the convex hull; cells outside the domain are tagged
+/// [`OUTSIDE`] and never reported as elements, and the boundary faces are protected, so points
+/// inserted inside the domain stay inside it.
+#[derive(Clone, Debug)]
+pub struct Mesh3 {
+    /// The tetrahedralisation with its protected boundary faces; cell tags are region indices.
+    pub ct: ConstrainedTriangulation3,
+    /// The boundary faces.
+    pub faces: Vec<BoundaryFace>,
+    /// Spacing at each vertex (by vertex index), NaN where recovery knows none.
+    pub spacing: Vec<f64>,
+    /// Whether each vertex (by vertex index) lies on the surface.
+    pub on_surface: Vec<bool>,
+    /// Attribute of each region index (index 0: the default region, 0.0).
+    pub region_attributes: Vec<f64>,
+    /// Boundary marker of each input point (0 when none).
+    pub point_markers: Vec<i32>,
+    /// Number of input points (vertices with a smaller input index are input points).
+    pub n_input_points: usize,
+    /// The recovery history.
+    pub history: RecoveryHistory3,
+}
+
+/// Boundary recovery of a [`Plc3`]; see the module docs.
+#[derive(Clone, Debug)]
+pub struct BoundaryRecovery3 {
+    method: RecoveryMethod3,
+    extra_points: Vec<[f64; 3]>,
+    max_steiner: Option<usize>,
+}
+
+impl Default for BoundaryRecovery3 {
+    fn default() -> Self {
+        Self::new(RecoveryMethod3::default())
+    }
+}
+
+/// An input edge and the vertices on it, ordered by their parameter from `a` to `b`.
+#[derive(Clone, Debug)]
+struct Seg {
+    a: u32,
+    b: u32,
+    /// `(t, vertex)`: the vertex at `a + t (b - a)`; first `(0, a)`, last `(1, b)`.
+    pts: Vec<(f64, VertexId)>,
+}
+
+/// An input triangle, the vertices added inside it, and its current sub-faces.
+#[derive(Clone, Debug)]
+struct Fac {
+    corners: [u32; 3],
+    /// Segment of edge `k` (corner `k` to corner `k + 1`), and whether it runs the other way.
+    segs: [(u32, bool); 3],
+    /// Points added inside: barycentric coordinates and vertex.
+    interior: Vec<([f64; 3], VertexId)>,
+    marker: i32,
+    facet: u32,
+    /// Sub-faces (counter-clockwise like the input triangle) at the last check.
+    subfaces: Vec<[VertexId; 3]>,
+    /// Whether `subfaces` must be recomputed (points were added on the facet).
+    stale: bool,
+}
+
+/// Recovery in progress.
+struct State<'a> {
+    tri: Triangulation3,
+    plc: &'a Plc3,
+    segs: Vec<Seg>,
+    facs: Vec<Fac>,
+    /// The facets (positions in `facs`) having each segment as an edge.
+    seg_facets: Vec<Vec<u32>>,
+    spacing: Vec<f64>,
+    on_surface: Vec<bool>,
+    stars: StarSearch,
+    star: Vec<CellId>,
+    /// Sub-segments shorter than this cannot be split (beyond double precision).
+    shortest: f64,
+    budget: usize,
+    added: usize,
+}
+
+impl BoundaryRecovery3 {
+    /// Recovery with the given method.
+    pub fn new(method: RecoveryMethod3) -> Self {
+        BoundaryRecovery3 {
+            method,
+            extra_points: Vec::new(),
+            max_steiner: None,
+        }
+    }
+
+    /// Adds field points from an external source (R9); those that fall outside the domain are
+    /// dropped with the exterior.
+    pub fn with_points(mut self, points: Vec<[f64; 3]>) -> Self {
+        self.extra_points = points;
+        self
+    }
+
+    /// The most points recovery may add before it gives up with
+    /// [`RecoveryError::SurfaceNotRecovered`] (default: 20 per surface point, at least 10,000).
+    pub fn max_steiner_points(mut self, n: usize) -> Self {
+        self.max_steiner = Some(n);
+        self
+    }
+
+    /// Recovers the surface of `plc` and classifies the exterior.
+    ///
+    /// # Errors
+    /// Invalid input, a surface that could not be recovered within the bound, or a domain with
+    /// no element inside.
+    pub fn run(&self, plc: &Plc3) -> Result<Mesh3, RecoveryError> {
+        let n_input = plc.points.len();
+        if let Some(i) = plc
+            .points
+            .iter()
+            .chain(&self.extra_points)
+            .position(|p| p.iter().any(|x| !x.is_finite()))
+        {
+            return Err(RecoveryError::NonFinite {
+                point: i as u64 + u64::from(plc.first_index),
+            });
+        }
+        let mut points = plc.points.clone();
+        points.extend_from_slice(&self.extra_points);
+        let tri = Triangulation3::new(&points)?;
+        let mut state = State::new(tri, plc, self.max_steiner)?;
+        let mut history = RecoveryHistory3 {
+            method: self.method,
+            surface_points: state.on_surface.iter().filter(|&&s| s).count(),
+            field_points: state.tri.num_vertices()
+                - state.on_surface.iter().filter(|&&s| s).count(),
+            surface_faces: plc.triangles.len(),
+            surface_edges: state.segs.len(),
+            initial_tetrahedra: state.tri.num_cells(),
+            ..Default::default()
+        };
+        state.recover(&mut history)?;
+        history.final_surface_edges = state.segs.iter().map(|s| s.pts.len() - 1).sum();
+
+        // Protect the recovered faces, then classify.
+        let mut ct = ConstrainedTriangulation3::new(state.tri);
+        let mut faces = Vec::new();
+        for fac in &state.facs {
+            for &t in &fac.subfaces {
+                let protected = ct.protect_face(t[0], t[1], t[2]);
+                debug_assert!(protected, "a recovered face is present: a bug in delmesh");
+                faces.push(BoundaryFace {
+                    v: t,
+                    marker: fac.marker,
+                    facet: fac.facet,
+                });
+            }
+        }
+        history.final_surface_faces = faces.len();
+        let region_attributes = classify3(&mut ct, plc)?;
+        for c in ct.triangulation().cells() {
+            if ct.tag(c) == OUTSIDE {
+                history.tetrahedra_outside += 1;
+            } else {
+                history.tetrahedra_inside += 1;
+            }
+        }
+        let mut point_markers = plc.point_markers.clone();
+        point_markers.resize(n_input, 0);
+        Ok(Mesh3 {
+            ct,
+            faces,
+            spacing: state.spacing,
+            on_surface: state.on_surface,
+            region_attributes,
+            point_markers,
+            n_input_points: n_input,
+            history,
+        })
+    }
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let d = sub(a, b);
+    dot(d, d).sqrt()
+}
+
+fn lerp(a: [f64; 3], b: [f64; 3], t: f64) -> [f64; 3] {
+    [
+        a[0] + t * (b[0] - a[0]),
+        a[1] + t * (b[1] - a[1]),
+        a[2] + t * (b[2] - a[2]),
+    ]
+}
+
+impl<'a> State<'a> {
+    fn new(
+        tri: Triangulation3,
+        plc: &'a Plc3,
+        max_steiner: Option<usize>,
+    ) -> Result<Self, RecoveryError> {
+        let n = plc.points.len();
+        let first = u64::from(plc.first_index);
+        let v = |i: u32| tri.vertex_of_input(i as usize);
+        let mut seg_of: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut segs: Vec<Seg> = Vec::new();
+        let mut facs = Vec::with_capacity(plc.triangles.len());
+        for t in &plc.triangles {
+            if let Some(&bad) = t.v.iter().find(|&&i| i as usize >= n) {
+                return Err(RecoveryError::BadFacetPoint {
+                    facet: u64::from(t.facet) + first,
+                    point: u64::from(bad) + first,
+                    n_points: n,
+                });
+            }
+            let cv = t.v.map(v);
+            if cv[0] == cv[1] || cv[1] == cv[2] || cv[0] == cv[2] {
+                return Err(RecoveryError::DegenerateFacet {
+                    facet: u64::from(t.facet) + first,
+                });
+            }
+            let mut fs = [(0u32, false); 3];
+            for k in 0..3 {
+                let (p, q) = (t.v[k], t.v[(k + 1) % 3]);
+                // Segments are keyed by vertex (duplicate input points share one).
+                let (vp, vq) = (v(p), v(q));
+                let key = (vp.0.min(vq.0), vp.0.max(vq.0));
+                let id = *seg_of.entry(key).or_insert_with(|| {
+                    segs.push(Seg {
+                        a: p,
+                        b: q,
+                        pts: vec![(0.0, vp), (1.0, vq)],
+                    });
+                    segs.len() as u32 - 1
+                });
+                fs[k] = (id, v(segs[id as usize].a) != vp);
+            }
+            facs.push(Fac {
+                corners: t.v,
+                segs: fs,
+                interior: Vec::new(),
+                marker: t.marker,
+                facet: t.facet,
+                subfaces: vec![cv],
+                stale: false,
+            });
+        }
+        let mut seg_facets = vec![Vec::new(); segs.len()];
+        for (f, fac) in facs.iter().enumerate() {
+            for &(s, _) in &fac.segs {
+                seg_facets[s as usize].push(f as u32);
+            }
+        }
+        // The paper's dp: mean length of the surface edges at each surface point.
+        let nv = tri.num_vertices();
+        let mut sum = vec![0.0f64; nv];
+        let mut count = vec![0u32; nv];
+        let mut on_surface = vec![false; nv];
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for s in &segs {
+            let (pa, pb) = (plc.points[s.a as usize], plc.points[s.b as usize]);
+            let len = dist(pa, pb);
+            for (e, p) in [(s.a, pa), (s.b, pb)] {
+                let i = v(e).index();
+                sum[i] += len;
+                count[i] += 1;
+                on_surface[i] = true;
+                for k in 0..3 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            }
+        }
+        let spacing = sum
+            .iter()
+            .zip(&count)
+            .map(|(&s, &c)| if c > 0 { s / f64::from(c) } else { f64::NAN })
+            .collect();
+        let n_surface = on_surface.iter().filter(|&&s| s).count();
+        Ok(State {
+            tri,
+            plc,
+            segs,
+            facs,
+            seg_facets,
+            spacing,
+            on_surface,
+            stars: StarSearch::default(),
+            star: Vec::new(),
+            shortest: dist(lo, hi) * 2f64.powi(-40),
+            budget: max_steiner.unwrap_or((20 * n_surface).max(10_000)),
+            added: 0,
+        })
+    }
+
+    fn point(&self, i: u32) -> [f64; 3] {
+        self.plc.points[i as usize]
+    }
+
+    fn first(&self) -> u64 {
+        u64::from(self.plc.first_index)
+    }
+
+    /// Inserts a surface point with a spacing value; `None` if it rounds onto a vertex.
+    fn add_vertex(&mut self, p: [f64; 3], spacing: f64) -> Result<Option<VertexId>, RecoveryError> {
+        match self.tri.insert(p)? {
+            Insertion::Inserted(v) => {
+                if self.spacing.len() <= v.index() {
+                    self.spacing.resize(v.index() + 1, f64::NAN);
+                    self.on_surface.resize(v.index() + 1, false);
+                }
+                self.spacing[v.index()] = spacing;
+                self.on_surface[v.index()] = true;
+                self.added += 1;
+                Ok(Some(v))
+            }
+            Insertion::Duplicate(_) => Ok(None),
+        }
+    }
+
+    /// Edge and face checking until every sub-face is present.
+    fn recover(&mut self, history: &mut RecoveryHistory3) -> Result<(), RecoveryError> {
+        loop {
+            self.recover_edges(history)?;
+            let missing = self.check_faces();
+            let n_faces: usize = self.facs.iter().map(|f| f.subfaces.len()).sum();
+            history.steps.push(RecoveryStep::Faces {
+                surface_faces: n_faces,
+                missing_faces: missing.len(),
+            });
+            if missing.is_empty() {
+                return Ok(());
+            }
+            for (f, t) in missing {
+                self.split_face(f, t)?;
+                history.face_points += 1;
+            }
+        }
+    }
+
+    /// Mid-point / shell insertion until every sub-segment is present.
+    fn recover_edges(&mut self, history: &mut RecoveryHistory3) -> Result<(), RecoveryError> {
+        loop {
+            let missing = self.missing_subsegments();
+            history.steps.push(RecoveryStep::Edges {
+                points: self.tri.num_vertices(),
+                tetrahedra: self.tri.num_cells(),
+                surface_edges: self.segs.iter().map(|s| s.pts.len() - 1).sum(),
+                missing_edges: missing.len(),
+            });
+            if missing.is_empty() {
+                return Ok(());
+            }
+            // Highest position first, so earlier positions of the same segment stay valid.
+            for &(s, k) in missing.iter().rev() {
+                self.split_subsegment(s as usize, k as usize)?;
+                history.edge_points += 1;
+            }
+        }
+    }
+
+    /// `(segment, position)` of every missing sub-segment, sorted.
+    fn missing_subsegments(&mut self) -> Vec<(u32, u32)> {
+        let mut by_vertex: Vec<(VertexId, VertexId, u32, u32)> = Vec::new();
+        for (s, seg) in self.segs.iter().enumerate() {
+            for (k, w) in seg.pts.windows(2).enumerate() {
+                let (a, b) = (w[0].1, w[1].1);
+                let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+                by_vertex.push((lo, hi, s as u32, k as u32));
+            }
+        }
+        by_vertex.sort_unstable();
+        let mut missing = Vec::new();
+        let mut current = VertexId::GHOST;
+        let mut star = std::mem::take(&mut self.star);
+        for &(a, b, s, k) in &by_vertex {
+            if a != current {
+                current = a;
+                self.stars.star(&self.tri, a, &mut star);
+            }
+            if !star.iter().any(|&c| self.tri.cell(c).contains(&b)) {
+                missing.push((s, k));
+            }
+        }
+        self.star = star;
+        missing.sort_unstable();
+        missing
+    }
+
+    /// Splits sub-segment `k` of segment `s` (between its points `k` and `k + 1`).
+    fn split_subsegment(&mut self, s: usize, k: usize) -> Result<(), RecoveryError> {
+        let seg = &self.segs[s];
+        let (pa, pb) = (self.point(seg.a), self.point(seg.b));
+        let (t0, t1) = (seg.pts[k].0, seg.pts[k + 1].0);
+        let length = dist(pa, pb);
+        let sub_length = (t1 - t0) * length;
+        if sub_length < self.shortest || self.added >= self.budget {
+            return Err(self.not_recovered(self.facets_of_segment(s)));
+        }
+        let last = seg.pts.len() - 1;
+        // Concentric shells: measured from an input vertex at one end, a power of two.
+        let shell = |from_t: f64, towards: f64| {
+            let r = 2f64.powf((sub_length * 0.5).log2().round());
+            from_t + towards * r / length
+        };
+        let t = match (k == 0, k + 1 == last) {
+            (true, false) => shell(0.0, 1.0),
+            (false, true) => shell(1.0, -1.0),
+            _ => 0.5 * (t0 + t1),
+        };
+        let t = if t > t0 && t < t1 { t } else { 0.5 * (t0 + t1) };
+        let p = lerp(pa, pb, t);
+        let (da, db) = (
+            self.spacing[seg.pts[0].1.index()],
+            self.spacing[seg.pts[last].1.index()],
+        );
+        let Some(v) = self.add_vertex(p, da + t * (db - da))? else {
+            return Err(self.not_recovered(self.facets_of_segment(s)));
+        };
+        self.segs[s].pts.insert(k + 1, (t, v));
+        for &f in &self.seg_facets[s] {
+            self.facs[f as usize].stale = true;
+        }
+        Ok(())
+    }
+
+    /// The facets (positions in `facs`) having segment `s` as an edge.
+    fn facets_of_segment(&self, s: usize) -> Vec<u32> {
+        self.seg_facets[s].clone()
+    }
+
+    fn not_recovered(&self, facets: Vec<u32>) -> RecoveryError {
+        let mut named: Vec<u64> = facets
+            .iter()
+            .map(|&f| u64::from(self.facs[f as usize].facet) + self.first())
+            .collect();
+        named.sort_unstable();
+        named.dedup();
+        RecoveryError::SurfaceNotRecovered {
+            facets: named,
+            added: self.added,
+        }
+    }
+
+    /// Barycentric coordinates (in facet `f`'s corners) of each of its vertices: the boundary
+    /// loop (counter-clockwise from corner 0) then the interior points.
+    fn facet_vertices(&self, f: usize) -> (Vec<VertexId>, Vec<[f64; 3]>, usize) {
+        let fac = &self.facs[f];
+        let mut verts = Vec::new();
+        let mut bary = Vec::new();
+        for k in 0..3 {
+            let (s, reversed) = fac.segs[k];
+            let pts = &self.segs[s as usize].pts;
+            let n = pts.len();
+            for j in 0..n - 1 {
+                let (t, v) = if reversed { pts[n - 1 - j] } else { pts[j] };
+                let t = if reversed { 1.0 - t } else { t };
+                let mut b = [0.0; 3];
+                b[k] = 1.0 - t;
+                b[(k + 1) % 3] = t;
+                verts.push(v);
+                bary.push(b);
+            }
+        }
+        let n_boundary = verts.len();
+        for &(b, v) in &fac.interior {
+            verts.push(v);
+            bary.push(b);
+        }
+        (verts, bary, n_boundary)
+    }
+
+    /// Recomputes the sub-faces of stale facets and returns the missing ones, as
+    /// `(facet, sub-face index)`.
+    fn check_faces(&mut self) -> Vec<(u32, [VertexId; 3])> {
+        for f in 0..self.facs.len() {
+            if self.facs[f].stale {
+                let subfaces = self.reference_subfaces(f);
+                self.facs[f].subfaces = subfaces;
+                self.facs[f].stale = false;
+            }
+        }
+        let mut missing = Vec::new();
+        let mut star = std::mem::take(&mut self.star);
+        for f in 0..self.facs.len() {
+            let mut changed = false;
+            let mut subfaces = std::mem::take(&mut self.facs[f].subfaces);
+            let mut absent: Vec<usize> = Vec::new();
+            for (k, t) in subfaces.iter().enumerate() {
+                self.stars.star(&self.tri, t[0], &mut star);
+                if find_face_in(&self.tri, &star, t[0], t[1], t[2]).is_none() {
+                    absent.push(k);
+                }
+            }
+            if absent.len() >= 2 {
+                changed = self.follow_diagonals(f, &mut subfaces, &mut absent, &mut star);
+            }
+            for &k in &absent {
+                missing.push((f as u32, subfaces[k]));
+            }
+            let _ = changed;
+            self.facs[f].subfaces = subfaces;
+        }
+        self.star = star;
+        missing
+    }
+
+    /// Where two adjacent sub-faces are both missing but the tetrahedralisation has the two
+    /// triangles of the other diagonal of their quadrilateral (a co-circular choice made the
+    /// other way), takes those instead. Returns whether anything changed.
+    fn follow_diagonals(
+        &mut self,
+        f: usize,
+        subfaces: &mut [[VertexId; 3]],
+        absent: &mut Vec<usize>,
+        star: &mut Vec<CellId>,
+    ) -> bool {
+        let coords = self.facet_frame_coords(f, subfaces);
+        let mut changed = false;
+        let mut i = 0;
+        while i < absent.len() {
+            let t = subfaces[absent[i]];
+            let mut flipped = false;
+            'edges: for e in 0..3 {
+                let (u, w, x) = (t[e], t[(e + 1) % 3], t[(e + 2) % 3]);
+                for j in 0..absent.len() {
+                    if j == i {
+                        continue;
+                    }
+                    let s = subfaces[absent[j]];
+                    // The neighbour across u→w runs w→u.
+                    let Some(pos) = (0..3).find(|&m| s[m] == w && s[(m + 1) % 3] == u) else {
+                        continue;
+                    };
+                    let y = s[(pos + 2) % 3];
+                    let (cu, cw, cx, cy) = (coords[&u], coords[&w], coords[&x], coords[&y]);
+                    if orient2d(cu, cy, cx) != Sign::Positive
+                        || orient2d(cy, cw, cx) != Sign::Positive
+                    {
+                        continue;
+                    }
+                    self.stars.star(&self.tri, x, star);
+                    if find_face_in(&self.tri, star, u, y, x).is_some()
+                        && find_face_in(&self.tri, star, y, w, x).is_some()
+                    {
+                        let (ti, tj) = (absent[i], absent[j]);
+                        subfaces[ti] = [u, y, x];
+                        subfaces[tj] = [y, w, x];
+                        absent.retain(|&k| k != ti && k != tj);
+                        flipped = true;
+                        changed = true;
+                        break 'edges;
+                    }
+                }
+            }
+            if !flipped {
+                i += 1;
+            } else {
+                i = 0;
+            }
+        }
+        changed
+    }
+
+    /// 2D coordinates in facet `f`'s plane of the vertices of `subfaces`.
+    fn facet_frame_coords(
+        &self,
+        f: usize,
+        _subfaces: &[[VertexId; 3]],
+    ) -> HashMap<VertexId, [f64; 2]> {
+        let (verts, bary, _) = self.facet_vertices(f);
+        let frame = self.frame(f);
+        verts
+            .iter()
+            .zip(&bary)
+            .map(|(&v, &b)| (v, frame_point(&frame, b)))
+            .collect()
+    }
+
+    /// The facet's corners in its own plane: `(0, 0)`, `(|b - a|, 0)`, and `c` above the x axis.
+    fn frame(&self, f: usize) -> [[f64; 2]; 3] {
+        let c = self.facs[f].corners.map(|i| self.point(i));
+        let (ab, ac) = (sub(c[1], c[0]), sub(c[2], c[0]));
+        let len = dot(ab, ab).sqrt();
+        let e1 = [ab[0] / len, ab[1] / len, ab[2] / len];
+        let n = cross(ab, ac);
+        let mut e2 = cross(n, e1);
+        let l2 = dot(e2, e2).sqrt();
+        e2 = [e2[0] / l2, e2[1] / l2, e2[2] / l2];
+        [[0.0, 0.0], [len, 0.0], [dot(ac, e1), dot(ac, e2)]]
+    }
+
+    /// The sub-faces of facet `f`: the constrained Delaunay triangulation of its vertices in its
+    /// plane, counter-clockwise like the facet.
+    fn reference_subfaces(&self, f: usize) -> Vec<[VertexId; 3]> {
+        let (verts, bary, n_boundary) = self.facet_vertices(f);
+        if verts.len() == 3 {
+            return vec![[verts[0], verts[1], verts[2]]];
+        }
+        let frame = self.frame(f);
+        let pts: Vec<[f64; 2]> = bary.iter().map(|&b| frame_point(&frame, b)).collect();
+        let Ok(tri) = Triangulation2::new(&pts) else {
+            return vec![self.facs[f]
+                .corners
+                .map(|i| self.tri.vertex_of_input(i as usize))];
+        };
+        let ids: Vec<VertexId> = (0..pts.len()).map(|i| tri.vertex_of_input(i)).collect();
+        let local = |i: usize| ids[i];
+        let mut cdt = ConstrainedTriangulation2::new(tri);
+        for k in 0..n_boundary {
+            let (a, b) = (local(k), local((k + 1) % n_boundary));
+            if a != b {
+                // A point exactly on a boundary sub-segment in the plane would stop the
+                // constraint; the Delaunay edges are then used as they are.
+                let _ = cdt.insert_segment(a, b);
+            }
+        }
+        // Flood from the triangle left of the first boundary sub-segment, within constraints.
+        let t2 = cdt.triangulation();
+        let mut back = vec![VertexId::GHOST; t2.num_vertices()];
+        for (i, &v) in verts.iter().enumerate() {
+            back[local(i).index()] = v;
+        }
+        let Some((found, i)) = cdt.find_edge(local(0), local(1)) else {
+            return vec![self.facs[f]
+                .corners
+                .map(|i| self.tri.vertex_of_input(i as usize))];
+        };
+        // The cell with the edge running counter-clockwise is on its left: inside.
+        let cell = t2.cell(found);
+        let k = cell.iter().position(|&u| u == local(0)).unwrap_or(0);
+        let start = if cell[(k + 1) % 3] == local(1) {
+            found
+        } else {
+            t2.neighbor_facet(found, i).cell()
+        };
+        if t2.is_ghost(start) {
+            return vec![self.facs[f]
+                .corners
+                .map(|i| self.tri.vertex_of_input(i as usize))];
+        }
+        let mut seen = vec![false; t2.all_cells().map(|c| c.index() + 1).max().unwrap_or(0)];
+        let mut stack = vec![start];
+        seen[start.index()] = true;
+        let mut out = Vec::new();
+        while let Some(c) = stack.pop() {
+            let cell = t2.cell(c);
+            out.push([
+                back[cell[0].index()],
+                back[cell[1].index()],
+                back[cell[2].index()],
+            ]);
+            for i in 0..3 {
+                if cdt.is_constrained(c, i) {
+                    continue;
+                }
+                let n = t2.neighbor_facet(c, i).cell();
+                if !seen[n.index()] && !t2.is_ghost(n) {
+                    seen[n.index()] = true;
+                    stack.push(n);
+                }
+            }
+        }
+        out
+    }
+
+    /// Inserts the centroid of the missing sub-face `t` of facet `f`.
+    fn split_face(&mut self, f: u32, t: [VertexId; 3]) -> Result<(), RecoveryError> {
+        if self.added >= self.budget {
+            return Err(self.not_recovered(vec![f]));
+        }
+        let (verts, bary, _) = self.facet_vertices(f as usize);
+        let mut b = [0.0; 3];
+        for v in t {
+            let Some(i) = verts.iter().position(|&u| u == v) else {
+                return Err(self.not_recovered(vec![f]));
+            };
+            for k in 0..3 {
+                b[k] += bary[i][k] / 3.0;
+            }
+        }
+        let c = self.facs[f as usize].corners.map(|i| self.point(i));
+        let p = [0, 1, 2].map(|k| b[0] * c[0][k] + b[1] * c[1][k] + b[2] * c[2][k]);
+        let s = self.facs[f as usize]
+            .corners
+            .map(|i| self.spacing[self.tri.vertex_of_input(i as usize).index()]);
+        let spacing = b[0] * s[0] + b[1] * s[1] + b[2] * s[2];
+        let Some(v) = self.add_vertex(p, spacing)? else {
+            return Err(self.not_recovered(vec![f]));
+        };
+        let fac = &mut self.facs[f as usize];
+        fac.interior.push((b, v));
+        fac.stale = true;
+        Ok(())
+    }
+}
+
+/// A point of the facet frame from barycentric coordinates.
+fn frame_point(frame: &[[f64; 2]; 3], b: [f64; 3]) -> [f64; 2] {
+    [
+        b[1] * frame[1][0] + b[2] * frame[2][0],
+        b[1] * frame[1][1] + b[2] * frame[2][1],
+    ]
+}

@@ -1,0 +1,341 @@
+//! 3D boundary recovery end to end: every input facet is the union of output boundary faces,
+//! nothing outside the domain, the enclosed volume, positive orientation and the constrained
+//! Delaunay property, on closed surfaces (boxes, spheres, nested and separate bodies).
+
+use delmesh_boundary_recovery::{
+    tet_volume, BoundaryRecovery3, Mesh3, Plc3, RecoveryError, RecoveryStep, SurfaceTriangle,
+};
+use delmesh_predicates::{orient3d, Sign};
+use proptest::prelude::*;
+use rand::{rngs::StdRng, Rng, SeedableRng};
+use std::collections::HashMap;
+
+/// Adds a closed surface (points and triangles in local numbering) with one marker.
+fn add_surface(plc: &mut Plc3, points: &[[f64; 3]], triangles: &[[u32; 3]], marker: i32) {
+    let base = plc.points.len() as u32;
+    plc.points.extend_from_slice(points);
+    for t in triangles {
+        let facet = plc.triangles.len() as u32;
+        plc.triangles.push(SurfaceTriangle {
+            v: t.map(|i| i + base),
+            marker,
+            facet,
+        });
+    }
+}
+
+/// The surface of the box `lo..hi`, `n` divisions per edge, triangles counter-clockwise seen
+/// from outside (`outward`) or from inside.
+fn box_surface(
+    lo: [f64; 3],
+    hi: [f64; 3],
+    n: usize,
+    outward: bool,
+) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let mut points: Vec<[f64; 3]> = Vec::new();
+    let mut index: HashMap<[usize; 3], u32> = HashMap::new();
+    let mut id = |g: [usize; 3], points: &mut Vec<[f64; 3]>| {
+        *index.entry(g).or_insert_with(|| {
+            points.push([0, 1, 2].map(|k| lo[k] + (hi[k] - lo[k]) * g[k] as f64 / n as f64));
+            points.len() as u32 - 1
+        })
+    };
+    let mut triangles = Vec::new();
+    // Each face: the fixed axis, its side; (u, v) the other two axes in right-handed order.
+    for axis in 0..3 {
+        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+        for side in [0, n] {
+            for i in 0..n {
+                for j in 0..n {
+                    let g = |a: usize, b: usize| {
+                        let mut g = [0; 3];
+                        g[axis] = side;
+                        g[u] = a;
+                        g[v] = b;
+                        g
+                    };
+                    let q = [g(i, j), g(i + 1, j), g(i + 1, j + 1), g(i, j + 1)]
+                        .map(|g| id(g, &mut points));
+                    // u × v = +axis: counter-clockwise seen from +axis.
+                    let out_here = (side == n) == outward;
+                    let (t1, t2) = if (i + j) % 2 == 0 {
+                        ([q[0], q[1], q[2]], [q[0], q[2], q[3]])
+                    } else {
+                        ([q[0], q[1], q[3]], [q[1], q[2], q[3]])
+                    };
+                    for t in [t1, t2] {
+                        triangles.push(if out_here { t } else { [t[0], t[2], t[1]] });
+                    }
+                }
+            }
+        }
+    }
+    (points, triangles)
+}
+
+/// An icosphere: the icosahedron subdivided `level` times, projected on the sphere,
+/// counter-clockwise seen from outside.
+fn icosphere(centre: [f64; 3], r: f64, level: usize) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut pts: Vec<[f64; 3]> = vec![
+        [-1.0, t, 0.0],
+        [1.0, t, 0.0],
+        [-1.0, -t, 0.0],
+        [1.0, -t, 0.0],
+        [0.0, -1.0, t],
+        [0.0, 1.0, t],
+        [0.0, -1.0, -t],
+        [0.0, 1.0, -t],
+        [t, 0.0, -1.0],
+        [t, 0.0, 1.0],
+        [-t, 0.0, -1.0],
+        [-t, 0.0, 1.0],
+    ];
+    let mut tris: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..level {
+        let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut next = Vec::new();
+        for t in &tris {
+            let mut m = [0u32; 3];
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let key = (a.min(b), a.max(b));
+                m[k] = *mid.entry(key).or_insert_with(|| {
+                    let (p, q) = (pts[a as usize], pts[b as usize]);
+                    pts.push([0, 1, 2].map(|i| 0.5 * (p[i] + q[i])));
+                    pts.len() as u32 - 1
+                });
+            }
+            next.push([t[0], m[0], m[2]]);
+            next.push([t[1], m[1], m[0]]);
+            next.push([t[2], m[2], m[1]]);
+            next.push(m);
+        }
+        tris = next;
+    }
+    let points = pts
+        .iter()
+        .map(|p| {
+            let l = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+            [0, 1, 2].map(|k| centre[k] + r * p[k] / l)
+        })
+        .collect();
+    (points, tris)
+}
+
+/// Signed volume enclosed by a closed triangulated surface (divergence theorem).
+fn enclosed_volume(points: &[[f64; 3]], tris: &[[u32; 3]]) -> f64 {
+    let o = points[0];
+    tris.iter()
+        .map(|t| {
+            tet_volume(
+                o,
+                points[t[0] as usize],
+                points[t[1] as usize],
+                points[t[2] as usize],
+            )
+        })
+        .sum()
+}
+
+fn area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
+    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    let n = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
+    0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
+}
+
+/// Everything a recovered mesh must satisfy.
+fn check(plc: &Plc3, mesh: &Mesh3, volume: f64) {
+    mesh.ct
+        .validate()
+        .expect("constrained Delaunay, positive, symmetric");
+    let arrays = mesh.to_arrays();
+    // Volume.
+    let v: f64 = arrays
+        .tets
+        .iter()
+        .map(|t| {
+            let p = t.map(|i| arrays.coords[i as usize]);
+            assert_eq!(
+                orient3d(p[0], p[1], p[2], p[3]),
+                Sign::Positive,
+                "tetrahedron {t:?} not positive"
+            );
+            tet_volume(p[0], p[1], p[2], p[3])
+        })
+        .sum();
+    assert!(
+        (v - volume).abs() <= 1e-9 * volume.abs(),
+        "volume {v} vs enclosed {volume}"
+    );
+    // Every facet is the union of its boundary faces: same area, same orientation.
+    let mut by_facet: HashMap<u32, f64> = HashMap::new();
+    for (t, &f) in arrays.faces.iter().zip(&arrays.face_facets) {
+        let p = t.map(|i| arrays.coords[i as usize]);
+        *by_facet.entry(f).or_default() += area(p[0], p[1], p[2]);
+        // Orientation agrees with the input triangle's normal.
+        let q = plc.triangles[f as usize].v.map(|i| plc.points[i as usize]);
+        let n = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
+            let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+            let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+            [
+                u[1] * v[2] - u[2] * v[1],
+                u[2] * v[0] - u[0] * v[2],
+                u[0] * v[1] - u[1] * v[0],
+            ]
+        };
+        let (m, k) = (n(p[0], p[1], p[2]), n(q[0], q[1], q[2]));
+        assert!(
+            m[0] * k[0] + m[1] * k[1] + m[2] * k[2] > 0.0,
+            "face {t:?} flipped"
+        );
+    }
+    for (f, t) in plc.triangles.iter().enumerate() {
+        let q = t.v.map(|i| plc.points[i as usize]);
+        let want = area(q[0], q[1], q[2]);
+        let got = by_facet.get(&(f as u32)).copied().unwrap_or(0.0);
+        assert!(
+            (got - want).abs() <= 1e-9 * want,
+            "facet {f}: faces cover {got}, facet area {want}"
+        );
+    }
+    // The boundary faces are exactly the protected faces.
+    assert_eq!(mesh.ct.protected_faces().len(), mesh.faces.len());
+}
+
+#[test]
+fn cube_alone() {
+    let (p, t) = box_surface([0.0; 3], [1.0; 3], 3, true);
+    let mut plc = Plc3::default();
+    add_surface(&mut plc, &p, &t, 1);
+    let mesh = BoundaryRecovery3::default().run(&plc).unwrap();
+    check(&plc, &mesh, 1.0);
+    // Each grid square's four corners are co-circular: where the perturbation chose the other
+    // diagonal than the input, the diagonal's mid-point is needed, nothing more.
+    assert!(mesh.history.points_added() <= 6 * 9, "{}", mesh.history);
+    assert_eq!(mesh.history.face_points, 0, "{}", mesh.history);
+}
+
+#[test]
+fn sphere_in_box() {
+    let mut plc = Plc3::default();
+    let (p, t) = box_surface([-2.0; 3], [2.0; 3], 4, true);
+    add_surface(&mut plc, &p, &t, 1);
+    let (q, s) = icosphere([0.1, 0.05, -0.02], 0.7, 2);
+    let sphere = enclosed_volume(&q, &s);
+    add_surface(&mut plc, &q, &s, 2);
+    let mesh = BoundaryRecovery3::default().run(&plc).unwrap();
+    check(&plc, &mesh, 64.0 - sphere);
+    println!("{}", mesh.history);
+}
+
+#[test]
+fn cube_with_cubic_hole_and_field_points() {
+    let mut plc = Plc3::default();
+    let (p, t) = box_surface([0.0; 3], [3.0; 3], 6, true);
+    add_surface(&mut plc, &p, &t, 1);
+    let (q, s) = box_surface([1.0; 3], [2.0; 3], 2, true);
+    add_surface(&mut plc, &q, &s, 2);
+    let mut rng = StdRng::seed_from_u64(7);
+    let field: Vec<[f64; 3]> = (0..2000)
+        .map(|_| [0, 1, 2].map(|_| rng.gen_range(0.01..2.99)))
+        .collect();
+    let mesh = BoundaryRecovery3::default()
+        .with_points(field)
+        .run(&plc)
+        .unwrap();
+    check(&plc, &mesh, 27.0 - 1.0);
+    assert!(
+        mesh.history.points_added() > 0,
+        "field points hide surface edges"
+    );
+    assert!(mesh
+        .history
+        .steps
+        .iter()
+        .any(|s| matches!(s, RecoveryStep::Edges { missing_edges, .. } if *missing_edges > 0)));
+    println!("{}", mesh.history);
+}
+
+#[test]
+fn two_bodies_and_a_hole_seed() {
+    let mut plc = Plc3::default();
+    let (p, t) = box_surface([-3.0, -2.0, -2.0], [3.0, 2.0, 2.0], 4, true);
+    add_surface(&mut plc, &p, &t, 1);
+    let (q, s) = icosphere([-1.2, 0.0, 0.0], 0.8, 2);
+    let v1 = enclosed_volume(&q, &s);
+    add_surface(&mut plc, &q, &s, 2);
+    let (q, s) = box_surface([0.6, -0.5, -0.5], [1.6, 0.5, 0.5], 2, false);
+    add_surface(&mut plc, &q, &s, 3);
+    let mesh = BoundaryRecovery3::default().run(&plc).unwrap();
+    check(&plc, &mesh, 96.0 - v1 - 1.0);
+    // A hole seed in the far field removes everything.
+    plc.holes.push([2.5, 1.5, 1.5]);
+    assert!(matches!(
+        BoundaryRecovery3::default().run(&plc),
+        Err(RecoveryError::EmptyDomain)
+    ));
+}
+
+#[test]
+fn budget_exhaustion_is_an_error_naming_facets() {
+    let mut plc = Plc3::default();
+    let (p, t) = box_surface([0.0; 3], [3.0; 3], 6, true);
+    add_surface(&mut plc, &p, &t, 1);
+    let mut rng = StdRng::seed_from_u64(3);
+    let field: Vec<[f64; 3]> = (0..3000)
+        .map(|_| [0, 1, 2].map(|_| rng.gen_range(0.01..2.99)))
+        .collect();
+    let err = BoundaryRecovery3::default()
+        .with_points(field)
+        .max_steiner_points(3)
+        .run(&plc)
+        .unwrap_err();
+    let msg = err.to_string();
+    assert!(msg.contains("facets that resisted"), "{msg}");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+    /// Random field points around a randomly placed sphere inside a box.
+    #[test]
+    fn random_field_points_keep_the_surface(seed in 0u64..1000, n in 50usize..800) {
+        let mut rng = StdRng::seed_from_u64(seed);
+        let mut plc = Plc3::default();
+        let (p, t) = box_surface([0.0; 3], [2.0; 3], 3, true);
+        add_surface(&mut plc, &p, &t, 1);
+        let c = [0, 1, 2].map(|_| rng.gen_range(0.8..1.2));
+        let (q, s) = icosphere(c, rng.gen_range(0.3..0.6), 1);
+        let vs = enclosed_volume(&q, &s);
+        add_surface(&mut plc, &q, &s, 2);
+        let field: Vec<[f64; 3]> = (0..n).map(|_| [0, 1, 2].map(|_| rng.gen_range(0.0..2.0))).collect();
+        let mesh = BoundaryRecovery3::default().with_points(field).run(&plc).unwrap();
+        check(&plc, &mesh, 8.0 - vs);
+    }
+}

@@ -1,0 +1,239 @@
+//! [`ConstrainedTriangulation3`]: a 3D Delaunay triangulation with protected faces and a tag per
+//! cell, for mesh generation after the boundary has been recovered.
+//!
+//! Once boundary recovery has made every surface triangle a face of the Delaunay
+//! tetrahedralisation, the paper's point generation (R10) inserts field points inside the domain
+//! and must never destroy a recovered face. Here those faces are *protected*: a Bowyer–Watson
+//! cavity never grows across them, so a protected face either stays as it is or is rebuilt, as a
+//! cavity boundary facet, joined to the new point. A point whose cavity is not star-shaped from
+//! it (which a non-convex boundary can cause) is refused instead of inserted, so every face that
+//! is not protected stays locally Delaunay: the result is a constrained Delaunay
+//! tetrahedralisation of the points and the protected faces.
+//!
+//! Each cell carries a `u32` tag (mesh generation's region); new cells take the tag of the cell
+//! the point was found in, which is the cavity's, since cavities never leave a region.
+
+use crate::dim::D3;
+use crate::error::{TriangulationError, ValidationError};
+use crate::ids::{CellId, FacetRef, VertexId};
+use crate::star::StarSearch;
+use crate::triangulation::{Location, Triangulation};
+
+/// A 3D triangulation with protected faces and a tag per cell.
+///
+/// Build it from a [`Triangulation`] (`D3`) with [`ConstrainedTriangulation3::new`], protect the
+/// recovered boundary faces ([`Self::protect_face`]), tag the cells, then insert points with
+/// [`Self::insert_if`].
+#[derive(Clone, Debug)]
+pub struct ConstrainedTriangulation3 {
+    tri: Triangulation<D3>,
+    /// Per cell slot, bit `i`: the face opposite local vertex `i` is protected.
+    protected: Vec<u8>,
+    /// Per cell slot: the caller's tag.
+    tags: Vec<u32>,
+    /// Marks for star searches.
+    stars: StarSearch,
+}
+
+impl ConstrainedTriangulation3 {
+    /// Wraps a Delaunay triangulation: nothing protected, every tag 0.
+    pub fn new(tri: Triangulation<D3>) -> Self {
+        let n = tri.simplices.len();
+        ConstrainedTriangulation3 {
+            tri,
+            protected: vec![0; n],
+            tags: vec![0; n],
+            stars: StarSearch::default(),
+        }
+    }
+
+    /// The underlying triangulation (cells, neighbours, vertices, queries).
+    pub fn triangulation(&self) -> &Triangulation<D3> {
+        &self.tri
+    }
+
+    /// Gives the underlying triangulation back, dropping protection and tags.
+    pub fn into_triangulation(self) -> Triangulation<D3> {
+        self.tri
+    }
+
+    /// Whether the face of `c` opposite its local vertex `i` is protected.
+    #[inline]
+    pub fn is_protected(&self, c: CellId, i: usize) -> bool {
+        (self.protected[c.index()] >> i) & 1 != 0
+    }
+
+    /// The tag of cell `c`.
+    #[inline]
+    pub fn tag(&self, c: CellId) -> u32 {
+        self.tags[c.index()]
+    }
+
+    /// Sets the tag of cell `c`.
+    #[inline]
+    pub fn set_tag(&mut self, c: CellId, tag: u32) {
+        self.tags[c.index()] = tag;
+    }
+
+    /// Locates `point` (caller's coordinates): the cell containing it (a ghost cell beyond the
+    /// hull) or the vertex at it.
+    pub fn locate(&mut self, point: [f64; 3]) -> Location {
+        self.tri.locate(point)
+    }
+
+    /// The cells containing vertex `v` (ghost cells included on the hull), in search order.
+    pub fn star(&mut self, v: VertexId, out: &mut Vec<CellId>) {
+        self.stars.star(&self.tri, v, out);
+    }
+
+    /// The face `a b c` as a facet of one of the two cells sharing it, or `None` if the three
+    /// vertices do not form a face.
+    pub fn find_face(&mut self, a: VertexId, b: VertexId, c: VertexId) -> Option<FacetRef> {
+        let mut cells = Vec::new();
+        self.star(a, &mut cells);
+        find_face_in(&self.tri, &cells, a, b, c)
+    }
+
+    /// Protects the face `a b c` (on both of its sides). Returns false, changing nothing, if it
+    /// is not a face of the triangulation.
+    pub fn protect_face(&mut self, a: VertexId, b: VertexId, c: VertexId) -> bool {
+        let Some(f) = self.find_face(a, b, c) else {
+            return false;
+        };
+        self.protect(f);
+        true
+    }
+
+    /// Protects the facet `f` and its twin.
+    pub fn protect(&mut self, f: FacetRef) {
+        let twin = self.tri.simplices[f.cell().index()].n[f.facet()];
+        self.protected[f.cell().index()] |= 1 << f.facet();
+        self.protected[twin.cell().index()] |= 1 << twin.facet();
+    }
+
+    /// The protected faces, each once, as vertex triples (counter-clockwise seen from the cell
+    /// that reports it).
+    pub fn protected_faces(&self) -> Vec<[VertexId; 3]> {
+        let mut out = Vec::new();
+        for c in self.tri.all_cells() {
+            let m = self.protected[c.index()];
+            if m == 0 {
+                continue;
+            }
+            for i in 0..4 {
+                if (m >> i) & 1 == 0 {
+                    continue;
+                }
+                let twin = self.tri.simplices[c.index()].n[i];
+                if (c.0, i) < (twin.cell().0, twin.facet()) {
+                    out.push(face_vertices(self.tri.cell(c), i));
+                }
+            }
+        }
+        out
+    }
+
+    /// Inserts `point` (caller's coordinates) if it lies strictly inside a finite cell `cell`
+    /// for which `accept(self, cell)` is true, and its cavity, grown without crossing a
+    /// protected face, is star-shaped from it. Returns the new vertex, or `None` (nothing
+    /// changed) for a refused point, a point at an existing vertex, or one outside the hull. The
+    /// walk starts at `hint`, which may be any cell id seen before (slots of deleted cells are
+    /// replaced by the last insertion's cells).
+    ///
+    /// # Errors
+    /// A non-finite coordinate or one outside the range of the triangulation.
+    pub fn insert_if(
+        &mut self,
+        point: [f64; 3],
+        hint: CellId,
+        accept: impl Fn(&Self, CellId) -> bool,
+    ) -> Result<Option<VertexId>, TriangulationError> {
+        let p = self.tri.scaled_input(point)?;
+        let hint = if hint.index() < self.tri.simplices.len()
+            && self.tri.simplices[hint.index()].v[0] != VertexId::DEAD
+        {
+            hint
+        } else {
+            self.tri.last
+        };
+        let c = match self.tri.locate_from(p, hint) {
+            Location::Vertex(_) => return Ok(None),
+            Location::Cell(c) => c,
+        };
+        if self.tri.is_ghost(c) || !accept(self, c) {
+            return Ok(None);
+        }
+        let tag = self.tags[c.index()];
+        let input = self.tri.vertex_of_input.len() as u32;
+        let protected = &self.protected;
+        let Some(v) = self.tri.insert_blocked(p, input, c, |f| {
+            (protected[f.cell().index()] >> f.facet()) & 1 != 0
+        }) else {
+            return Ok(None);
+        };
+        self.tri.vertex_of_input.push(v);
+        let n = self.tri.simplices.len();
+        self.protected.resize(n, 0);
+        self.tags.resize(n, 0);
+        let cavity = &self.tri.cavity;
+        for (b, &c) in cavity.boundary.iter().zip(&cavity.new_cells) {
+            let apex = b.apex as usize;
+            let outside = b.outside;
+            let bit = (self.protected[outside.cell().index()] >> outside.facet()) & 1;
+            self.protected[c.index()] = bit << apex;
+            self.tags[c.index()] = tag;
+        }
+        Ok(Some(v))
+    }
+
+    /// Checks the triangulation's invariants (as [`Triangulation::validate`]) with the
+    /// Delaunay test waived across protected faces (the constrained Delaunay property), and
+    /// that both sides of every protected face agree.
+    ///
+    /// # Errors
+    /// The first broken invariant found.
+    pub fn validate(&self) -> Result<(), ValidationError> {
+        for c in self.tri.all_cells() {
+            for i in 0..4 {
+                let across = self.tri.simplices[c.index()].n[i];
+                if self.is_protected(c, i) != self.is_protected(across.cell(), across.facet()) {
+                    return Err(ValidationError::AsymmetricNeighbor {
+                        cell: c.0,
+                        facet: i,
+                    });
+                }
+            }
+        }
+        self.tri.validate_skipping(|c, i| self.is_protected(c, i))
+    }
+}
+
+/// The vertices of the face of `cell` opposite local vertex `i`, counter-clockwise seen from
+/// outside the cell (from the neighbour across it).
+pub(crate) fn face_vertices(cell: &[VertexId], i: usize) -> [VertexId; 3] {
+    const FACE: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+    FACE[i].map(|k| cell[k])
+}
+
+/// The face `a b c` among `cells` (the star of `a`, from [`StarSearch::star`]): a facet of a
+/// cell holding all three, or `None`.
+pub fn find_face_in(
+    tri: &Triangulation<D3>,
+    cells: &[CellId],
+    a: VertexId,
+    b: VertexId,
+    c: VertexId,
+) -> Option<FacetRef> {
+    if a == b || b == c || a == c {
+        return None;
+    }
+    cells.iter().find_map(|&x| {
+        let v = tri.cell(x);
+        if v.contains(&a) && v.contains(&b) && v.contains(&c) {
+            let i = (0..4).find(|&k| v[k] != a && v[k] != b && v[k] != c)?;
+            Some(FacetRef::new(x, i))
+        } else {
+            None
+        }
+    })
+}
