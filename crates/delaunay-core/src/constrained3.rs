@@ -186,6 +186,16 @@ impl ConstrainedTriangulation3 {
         Ok(Some(v))
     }
 
+    /// The cells made by the last successful [`Self::insert_if`].
+    pub fn last_new_cells(&self) -> &[CellId] {
+        &self.tri.cavity.new_cells
+    }
+
+    /// Whether `c` is a live cell (not a freed slot, not out of range).
+    pub fn is_live(&self, c: CellId) -> bool {
+        c.index() < self.tri.simplices.len() && self.tri.simplices[c.index()].v[0] != VertexId::DEAD
+    }
+
     /// Checks the triangulation's invariants (as [`Triangulation::validate`]) with the
     /// Delaunay test waived across protected faces (the constrained Delaunay property), and
     /// that both sides of every protected face agree.

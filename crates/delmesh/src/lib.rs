@@ -35,5 +35,6 @@ pub mod demos;
 mod error;
 pub mod geometry;
 pub mod mesh2d;
+pub mod mesh3d;
 
 pub use error::Error;

@@ -31,6 +31,21 @@ pub enum PointGenError {
         /// Where (y).
         y: f64,
     },
+    /// A spacing value was not positive and finite at a candidate point in 3D.
+    #[error("spacing {value} at ({x}, {y}, {z}) is not positive and finite")]
+    BadSpacing3 {
+        /// The value.
+        value: f64,
+        /// Where (x).
+        x: f64,
+        /// Where (y).
+        y: f64,
+        /// Where (z).
+        z: f64,
+    },
+    /// A 3D candidate could not be inserted (a bad coordinate).
+    #[error(transparent)]
+    Insertion3(#[from] delmesh_delaunay_core::TriangulationError),
     /// An insertion failed (a bug in delmesh if it ever fires: candidates are inside).
     #[error(transparent)]
     Insertion(#[from] ConstraintError),

@@ -7,9 +7,11 @@
 //! removes the few skinny elements left where the spacing changes fast.
 
 mod generate;
+mod generate3;
 mod refine;
 mod spacing;
 
 pub use generate::{GenerationPass, GenerationReport, PointGenError, PointGeneration};
+pub use generate3::{GenerationPass3, GenerationReport3, PointGeneration3};
 pub use refine::QualityRefinement;
 pub use spacing::*;

@@ -1,0 +1,254 @@
+//! Weatherill's automatic point generation in 3D (R10): centroid candidates accepted by the α
+//! test against the tetrahedron's nodes, inserted by constrained Delaunay insertion, in passes
+//! until no candidate is accepted.
+//!
+//! As in 2D ([`crate::PointGeneration`]): each tetrahedron's candidate is its centroid, with
+//! spacing `dp` from the spacing function (by default the mean of its nodes' values); it is
+//! inserted only if it is farther than `α·dp` from every node of the tetrahedron that contains
+//! it *now*. Insertion never grows a cavity across a protected (recovered) boundary face, so the
+//! surface is never destroyed; a candidate whose cavity would not be star-shaped (next to a
+//! non-convex part of the boundary) is refused and counted. The paper's variant, which rejects
+//! every field point that would delete a protected tetrahedron, refused 725 points on the
+//! double ellipsoid.
+//!
+//! A tetrahedron's candidate and its α test depend only on its own nodes, so a tetrahedron
+//! rejected once stays rejected while it exists: after the first pass only the tetrahedra made
+//! by the previous pass's insertions are looked at.
+
+use crate::PointGenError;
+use delmesh_boundary_recovery::{Mesh3, OUTSIDE};
+use delmesh_delaunay_core::{CellId, VertexId};
+use std::fmt;
+
+/// Settings of automatic point generation in 3D.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointGeneration3 {
+    /// α: a candidate must be farther than `α·dp` from the nodes; larger α, fewer points.
+    pub alpha: f64,
+    /// Stop after adding this many points.
+    pub max_points: usize,
+    /// Stop after this many passes.
+    pub max_passes: usize,
+}
+
+impl Default for PointGeneration3 {
+    fn default() -> Self {
+        PointGeneration3 {
+            alpha: 1.0,
+            max_points: usize::MAX,
+            max_passes: 200,
+        }
+    }
+}
+
+/// One pass of 3D point generation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GenerationPass3 {
+    /// Tetrahedra looked at.
+    pub candidates: usize,
+    /// Candidates inserted.
+    pub accepted: usize,
+    /// Candidates that passed the α test but whose insertion was refused (the cavity was not
+    /// star-shaped, or the point rounded onto the boundary).
+    pub refused: usize,
+    /// Elements (tetrahedra in the domain) after the pass.
+    pub elements: usize,
+}
+
+/// What 3D point generation did.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct GenerationReport3 {
+    /// The passes, in order (the last accepted nothing, unless a limit stopped it).
+    pub passes: Vec<GenerationPass3>,
+}
+
+impl GenerationReport3 {
+    /// Points added over all passes.
+    pub fn points_added(&self) -> usize {
+        self.passes.iter().map(|p| p.accepted).sum()
+    }
+
+    /// Candidates refused at insertion over all passes.
+    pub fn refused(&self) -> usize {
+        self.passes.iter().map(|p| p.refused).sum()
+    }
+}
+
+impl fmt::Display for GenerationReport3 {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "{:>5} {:>11} {:>9} {:>8} {:>10}",
+            "pass", "candidates", "accepted", "refused", "elements"
+        )?;
+        for (k, p) in self.passes.iter().enumerate() {
+            writeln!(
+                f,
+                "{:>5} {:>11} {:>9} {:>8} {:>10}",
+                k + 1,
+                p.candidates,
+                p.accepted,
+                p.refused,
+                p.elements
+            )?;
+        }
+        Ok(())
+    }
+}
+
+impl PointGeneration3 {
+    /// Fills the domain of `mesh` with points spaced as `spacing(p, from_nodes)` says, where
+    /// `from_nodes` is the mean of the tetrahedron's node values (the paper's interpolation);
+    /// `spacing(p, own)` is also asked once per existing node with the node's own value. New
+    /// nodes get their spacing in `mesh.spacing`.
+    ///
+    /// # Errors
+    /// A bad α, or a spacing that is not positive and finite.
+    pub fn run(
+        &self,
+        mesh: &mut Mesh3,
+        spacing: impl Fn([f64; 3], f64) -> f64,
+    ) -> Result<GenerationReport3, PointGenError> {
+        if !(self.alpha > 0.0 && self.alpha.is_finite()) {
+            return Err(PointGenError::BadAlpha(self.alpha));
+        }
+        let mut dp = node_spacing3(mesh, &spacing)?;
+        let mut report = GenerationReport3::default();
+        let mut added = 0usize;
+        let mut cells: Vec<CellId> = mesh.elements().collect();
+        let mut next: Vec<CellId> = Vec::new();
+        while report.passes.len() < self.max_passes && added < self.max_points {
+            let (mut accepted, mut refused) = (0, 0);
+            next.clear();
+            for &c in &cells {
+                if added >= self.max_points {
+                    break;
+                }
+                if !mesh.ct.is_live(c) {
+                    continue;
+                }
+                let tri = mesh.ct.triangulation();
+                let tag = mesh.ct.tag(c);
+                let v = tri.cell(c);
+                if tag == OUTSIDE || v.iter().any(|u| u.is_ghost()) {
+                    continue;
+                }
+                let p = [0, 1, 2, 3].map(|k| tri.vertex(v[k]));
+                let g = [0, 1, 2].map(|k| 0.25 * (p[0][k] + p[1][k] + p[2][k] + p[3][k]));
+                let from_nodes = 0.25 * v.iter().map(|u| dp[u.index()]).sum::<f64>();
+                let h = spacing(g, from_nodes);
+                if !(h > 0.0 && h.is_finite()) {
+                    return Err(bad_spacing(h, g));
+                }
+                let reach2 = (self.alpha * h) * (self.alpha * h);
+                let dist2 = |q: [f64; 3]| {
+                    (q[0] - g[0]) * (q[0] - g[0])
+                        + (q[1] - g[1]) * (q[1] - g[1])
+                        + (q[2] - g[2]) * (q[2] - g[2])
+                };
+                if p.iter().any(|&q| dist2(q) <= reach2) {
+                    continue;
+                }
+                let inserted = mesh.ct.insert_if(g, c, |ct, cell| {
+                    if ct.tag(cell) != tag {
+                        return false;
+                    }
+                    let t = ct.triangulation();
+                    t.cell(cell).iter().all(|&u| dist2(t.vertex(u)) > reach2)
+                })?;
+                match inserted {
+                    Some(nv) => {
+                        set(&mut dp, nv, h);
+                        set(&mut mesh.spacing, nv, h);
+                        if mesh.on_surface.len() <= nv.index() {
+                            mesh.on_surface.resize(nv.index() + 1, false);
+                        }
+                        next.extend_from_slice(mesh.ct.last_new_cells());
+                        accepted += 1;
+                        added += 1;
+                    }
+                    None => {
+                        // Refused only if the cell still exists and held the point.
+                        if mesh.ct.is_live(c) {
+                            refused += 1;
+                        }
+                    }
+                }
+            }
+            report.passes.push(GenerationPass3 {
+                candidates: cells.len(),
+                accepted,
+                refused,
+                elements: mesh.num_elements(),
+            });
+            // Only the cells made in this pass can give a new candidate.
+            next.sort_unstable();
+            next.dedup();
+            std::mem::swap(&mut cells, &mut next);
+            if accepted == 0 {
+                break;
+            }
+        }
+        Ok(report)
+    }
+}
+
+fn bad_spacing(value: f64, p: [f64; 3]) -> PointGenError {
+    PointGenError::BadSpacing3 {
+        value,
+        x: p[0],
+        y: p[1],
+        z: p[2],
+    }
+}
+
+fn set(values: &mut Vec<f64>, v: VertexId, x: f64) {
+    if values.len() <= v.index() {
+        values.resize(v.index() + 1, f64::NAN);
+    }
+    values[v.index()] = x;
+}
+
+/// The spacing at every vertex of the domain: the field's value there, given the vertex's own
+/// value (from the surface), or for vertices recovery gave none (external field points) the
+/// mean length of their edges in the domain.
+fn node_spacing3(
+    mesh: &mut Mesh3,
+    spacing: &impl Fn([f64; 3], f64) -> f64,
+) -> Result<Vec<f64>, PointGenError> {
+    let tri = mesh.ct.triangulation();
+    let n = tri.num_vertices();
+    mesh.spacing.resize(n, f64::NAN);
+    let mut sum = vec![0.0f64; n];
+    let mut count = vec![0u32; n];
+    for c in mesh.elements() {
+        let v = tri.cell(c);
+        for i in 0..4 {
+            for j in i + 1..4 {
+                let (pa, pb) = (tri.vertex(v[i]), tri.vertex(v[j]));
+                let len =
+                    ((pa[0] - pb[0]).powi(2) + (pa[1] - pb[1]).powi(2) + (pa[2] - pb[2]).powi(2))
+                        .sqrt();
+                for u in [v[i], v[j]] {
+                    sum[u.index()] += len;
+                    count[u.index()] += 1;
+                }
+            }
+        }
+    }
+    let mut dp = vec![f64::NAN; n];
+    for i in 0..n {
+        if !mesh.spacing[i].is_finite() && count[i] > 0 {
+            mesh.spacing[i] = sum[i] / f64::from(count[i]);
+        }
+        if count[i] > 0 {
+            let p = tri.vertex(VertexId(i as u32));
+            let h = spacing(p, mesh.spacing[i]);
+            if !(h > 0.0 && h.is_finite()) {
+                return Err(bad_spacing(h, p));
+            }
+            dp[i] = h;
+        }
+    }
+    Ok(dp)
+}
