@@ -597,11 +597,11 @@ impl<D: Dim> Triangulation<D> {
 
     /// Bowyer–Watson insertion of the internal point `p` whose cavity never crosses a facet
     /// for which `blocked` is true (a protected boundary face): the insertion step of a
-    /// constrained Delaunay triangulation. `start` is the finite cell containing `p` (from a
-    /// walk). If `p` does not see every boundary facet of that cavity strictly (it lies on a
-    /// blocked facet, or a blocked facet of a non-convex boundary faces away from it), nothing
-    /// changes and `None` is returned: shrinking the cavity instead would leave cells whose
-    /// circumsphere holds `p`. After success, `self.cavity.boundary[k]` is the facet
+    /// constrained triangulation. `start` is the finite cell containing `p` (from a walk). If
+    /// `p` does not see every boundary facet of that cavity strictly (it lies on a blocked
+    /// facet, a blocked facet of a non-convex boundary faces away from it, or the cavity
+    /// reaches both sides of a blocked facet), nothing changes and `None` is returned:
+    /// shrinking the cavity instead would leave cells whose circumsphere holds `p`. After success, `self.cavity.boundary[k]` is the facet
     /// `self.cavity.new_cells[k]` was built on, for the caller's per-cell data.
     pub(crate) fn insert_blocked(
         &mut self,
@@ -627,10 +627,16 @@ impl<D: Dim> Triangulation<D> {
                 let across = cell.n[f];
                 let n = across.cell();
                 let m = self.mark[n.index()];
+                let is_blocked = blocked(FacetRef::new(c, f));
                 if m == INSIDE {
+                    if is_blocked {
+                        // Both sides of a protected face in the cavity: it would be lost.
+                        star_shaped = false;
+                        break 'search;
+                    }
                     continue;
                 }
-                if m == UNSEEN && !blocked(FacetRef::new(c, f)) {
+                if m == UNSEEN && !is_blocked {
                     cavity.touched.push(n);
                     if self.in_conflict(n, p, v) {
                         self.mark[n.index()] = INSIDE;

@@ -19,6 +19,7 @@ use std::time::Instant;
 
 use delmesh_boundary_recovery::{
     BoundaryRecovery3, Mesh3, MeshArrays3, Plc3, RecoveryHistory3, RecoveryMethod3,
+    SurfaceTriangle,
 };
 use delmesh_point_gen::{GenerationReport3, PointGeneration3};
 
@@ -35,6 +36,9 @@ pub struct MeshOptions3 {
     pub generation: Option<PointGeneration3>,
     /// Most points boundary recovery may add before it gives up (`None`: its default bound).
     pub max_steiner_points: Option<usize>,
+    /// At the end, triangulate the final points again and recover the refined surface, so the
+    /// mesh is exactly Delaunay (see [`restore_delaunay`]).
+    pub delaunay: bool,
 }
 
 impl Default for MeshOptions3 {
@@ -44,6 +48,7 @@ impl Default for MeshOptions3 {
             extra_points: Vec::new(),
             generation: Some(PointGeneration3::default()),
             max_steiner_points: None,
+            delaunay: true,
         }
     }
 }
@@ -59,6 +64,8 @@ pub struct MeshRun3 {
     pub recovery: RecoveryHistory3,
     /// The point generation passes, if generation ran.
     pub generation: Option<GenerationReport3>,
+    /// The recovery history of the Delaunay restoration, if it ran.
+    pub restoration: Option<RecoveryHistory3>,
     /// Seconds spent in each stage, in order.
     pub timings: Vec<(&'static str, f64)>,
 }
@@ -90,15 +97,59 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
         }
         None => None,
     };
-    let arrays = mesh.to_arrays();
+    let recovery_history = mesh.history.clone();
+    let mut arrays = mesh.to_arrays();
+    let mut restoration = None;
+    if options.delaunay && generation.is_some() {
+        mesh = restore_delaunay(&arrays, plc, options.max_steiner_points)?;
+        restoration = Some(mesh.history.clone());
+        lap("delaunay restoration", &mut timings);
+        arrays = mesh.to_arrays();
+    }
     lap("output arrays", &mut timings);
     Ok(MeshRun3 {
-        recovery: mesh.history.clone(),
+        recovery: recovery_history,
         mesh,
         arrays,
         generation,
+        restoration,
         timings,
     })
+}
+
+/// The Delaunay tetrahedralisation of the points of `arrays`, conforming to its boundary
+/// triangles: they become the input surface (keeping the markers and the input facets of `plc`,
+/// whose holes and region seeds classify the cells), so recovery only splits the few that a
+/// nearby interior point now hides. Point generation near protected faces and smoothing both
+/// leave cells whose circumsphere holds a vertex; this puts every tetrahedron back to an empty
+/// circumsphere.
+///
+/// # Errors
+/// As [`BoundaryRecovery3::run`].
+pub fn restore_delaunay(
+    arrays: &MeshArrays3,
+    plc: &Plc3,
+    max_steiner_points: Option<usize>,
+) -> Result<Mesh3, Error> {
+    let surface = Plc3 {
+        points: arrays.coords.clone(),
+        point_markers: arrays.point_markers.clone(),
+        triangles: arrays
+            .faces
+            .iter()
+            .zip(&arrays.face_markers)
+            .zip(&arrays.face_facets)
+            .map(|((&v, &marker), &facet)| SurfaceTriangle { v, marker, facet })
+            .collect(),
+        holes: plc.holes.clone(),
+        regions: plc.regions.clone(),
+        first_index: plc.first_index,
+    };
+    let mut recovery = BoundaryRecovery3::new(RecoveryMethod3::Conforming);
+    if let Some(n) = max_steiner_points {
+        recovery = recovery.max_steiner_points(n);
+    }
+    Ok(recovery.run(&surface)?)
 }
 
 impl MeshRun3 {
@@ -112,6 +163,14 @@ impl MeshRun3 {
                 "point generation: {} points added, {} refused\n{g}",
                 g.points_added(),
                 g.refused()
+            ));
+        }
+        if let Some(r) = &self.restoration {
+            s.push_str(&format!(
+                "delaunay restoration: {} surface points added ({} on edges, {} in faces)\n",
+                r.points_added(),
+                r.edge_points,
+                r.face_points
             ));
         }
         s.push_str(&format!(
