@@ -621,7 +621,7 @@ impl<'a> State<'a> {
 
     /// Splits sub-segment `k` of segment `s` (between its points `k` and `k + 1`).
     fn split_subsegment(&mut self, s: usize, k: usize) -> Result<(), RecoveryError> {
-        let seg = &self.segs[s];
+        let seg = self.segs[s].clone();
         let (pa, pb) = (self.point(seg.a), self.point(seg.b));
         let (t0, t1) = (seg.pts[k].0, seg.pts[k + 1].0);
         let length = dist(pa, pb);
@@ -638,7 +638,11 @@ impl<'a> State<'a> {
         let t = match (k == 0, k + 1 == last) {
             (true, false) => shell(0.0, 1.0),
             (false, true) => shell(1.0, -1.0),
-            _ => 0.5 * (t0 + t1),
+            _ => {
+                let (u, w) = (seg.pts[k].1, seg.pts[k + 1].1);
+                self.projection_split(u, w)
+                    .map_or(0.5 * (t0 + t1), |f| t0 + f * (t1 - t0))
+            }
         };
         let t = if t > t0 && t < t1 { t } else { 0.5 * (t0 + t1) };
         let p = lerp(pa, pb, t);
@@ -654,6 +658,38 @@ impl<'a> State<'a> {
             self.facs[f as usize].stale = true;
         }
         Ok(())
+    }
+
+    /// Where to split the missing sub-segment `u w`, as a fraction of its length from `u`: the
+    /// foot of the perpendicular from the vertex that encroaches it most (the largest angle
+    /// `u x w` over 90°, among the vertices next to `u` or `w`), so that one split moves both
+    /// halves' diametral spheres off that vertex; `None` when no neighbour encroaches or the foot
+    /// is within a fifth of an end (then the mid-point is better). Not used next to input
+    /// vertices, where the concentric shells are what makes splitting terminate.
+    fn projection_split(&mut self, u: VertexId, w: VertexId) -> Option<f64> {
+        let (pu, pw) = (self.tri.vertex(u), self.tri.vertex(w));
+        let uw = sub(pw, pu);
+        let len2 = dot(uw, uw);
+        let mut best: Option<(f64, f64)> = None; // (cosine of the angle at x, fraction)
+        let mut star = std::mem::take(&mut self.star);
+        for end in [u, w] {
+            self.stars.star(&self.tri, end, &mut star);
+            for &c in &star {
+                for &x in self.tri.cell(c) {
+                    if x.is_ghost() || x == u || x == w {
+                        continue;
+                    }
+                    let px = self.tri.vertex(x);
+                    let (xu, xw) = (sub(pu, px), sub(pw, px));
+                    let cos = dot(xu, xw) / (dot(xu, xu) * dot(xw, xw)).sqrt();
+                    if cos < 0.0 && best.is_none_or(|b| cos < b.0) {
+                        best = Some((cos, dot(sub(px, pu), uw) / len2));
+                    }
+                }
+            }
+        }
+        self.star = star;
+        best.map(|b| b.1).filter(|f| (0.2..=0.8).contains(f))
     }
 
     /// The facets (positions in `facs`) having segment `s` as an edge.

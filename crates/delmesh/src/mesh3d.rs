@@ -18,8 +18,7 @@
 use std::time::Instant;
 
 use delmesh_boundary_recovery::{
-    BoundaryRecovery3, Mesh3, MeshArrays3, Plc3, RecoveryHistory3, RecoveryMethod3,
-    SurfaceTriangle,
+    BoundaryRecovery3, Mesh3, MeshArrays3, Plc3, RecoveryHistory3, RecoveryMethod3, SurfaceTriangle,
 };
 use delmesh_point_gen::{GenerationReport3, PointGeneration3};
 
