@@ -104,7 +104,7 @@ impl<'t> Reader<'t> {
             }
             *slot = point_ref(raw, 1, n_points, self.file, line)?;
         }
-        let (_, r) = self.int::<i32>(&format!("the reference of a {what}"))?;
+        let (_, r) = self.int::<i32>(&format!("reference of a {what}"))?;
         Ok((first, v, r))
     }
 }
@@ -150,7 +150,7 @@ pub fn parse_medit(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
             for _ in 0..n {
                 out.points
                     .push([rd.coord("x")?, rd.coord("y")?, rd.coord("z")?]);
-                markers.push(rd.int::<i32>("the reference of a vertex")?.1);
+                markers.push(rd.int::<i32>("reference of a vertex")?.1);
             }
         } else if is("Triangles") || is("Quadrilaterals") {
             let n = rd.count("number of elements")?;

@@ -109,6 +109,16 @@ impl<'t> Lines<'t> {
         at_least: bool,
     ) -> Result<(usize, Vec<&'t str>), IoError> {
         let (line, raw) = self.next(what)?;
+        if raw.starts_with('$') {
+            return Err(IoError::parse(
+                self.file,
+                line,
+                format!(
+                    "expected {what}, found '{}': fewer records than the section's count",
+                    shorten(raw)
+                ),
+            ));
+        }
         let toks: Vec<&str> = raw.split_whitespace().collect();
         if toks.len() < n || (!at_least && toks.len() > n) {
             return Err(IoError::parse(
@@ -281,6 +291,15 @@ pub fn parse_msh(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
                         let dim = parse_count(toks[0], "entity dimension", file, l)?;
                         let parametric = parse_count(toks[2], "parametric flag", file, l)?;
                         let n = parse_count(toks[3], "number of nodes", file, l)?;
+                        if dim > 3 || parametric > 1 {
+                            return Err(err(
+                                l,
+                                format!(
+                                    "entity dimension {dim} or parametric flag {parametric} \
+                                     out of range (0-3, 0-1)"
+                                ),
+                            ));
+                        }
                         let mut tags = Vec::with_capacity(n.min(text.len() / 2));
                         for _ in 0..n {
                             let (l, toks) = ls.fields("a node tag", 1, false)?;

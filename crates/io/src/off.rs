@@ -122,7 +122,7 @@ pub fn parse_off(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
                 line,
                 format!(
                     "face of {n} vertices needs {} fields, found {}",
-                    n + 1,
+                    n.saturating_add(1),
                     toks.len()
                 ),
             ));

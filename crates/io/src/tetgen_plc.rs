@@ -162,7 +162,7 @@ fn parse_plc(
                 line,
                 format!(
                     "{what} of {nc} corners needs {} fields, found {}",
-                    1 + nc,
+                    nc.saturating_add(1),
                     toks.len()
                 ),
             ));
