@@ -101,13 +101,9 @@ impl<'t> Lines<'t> {
         })
     }
 
-    /// The next line split into exactly `n` fields (or at least `n` with `at_least`).
-    fn fields(
-        &mut self,
-        what: &str,
-        n: usize,
-        at_least: bool,
-    ) -> Result<(usize, Vec<&'t str>), IoError> {
+    /// The next record of a section: its line, its text and its fields. A section keyword
+    /// instead means the section's count was larger than its records.
+    fn record(&mut self, what: &str) -> Result<(usize, &'t str, Vec<&'t str>), IoError> {
         let (line, raw) = self.next(what)?;
         if raw.starts_with('$') {
             return Err(IoError::parse(
@@ -119,7 +115,17 @@ impl<'t> Lines<'t> {
                 ),
             ));
         }
-        let toks: Vec<&str> = raw.split_whitespace().collect();
+        Ok((line, raw, raw.split_whitespace().collect()))
+    }
+
+    /// The next record, split into exactly `n` fields (or at least `n` with `at_least`).
+    fn fields(
+        &mut self,
+        what: &str,
+        n: usize,
+        at_least: bool,
+    ) -> Result<(usize, Vec<&'t str>), IoError> {
+        let (line, _, toks) = self.record(what)?;
         if toks.len() < n || (!at_least && toks.len() > n) {
             return Err(IoError::parse(
                 self.file,
@@ -213,16 +219,31 @@ pub fn parse_msh(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
                 let (l, toks) = ls.fields("the number of physical names", 1, false)?;
                 let n = parse_count(toks[0], "number of physical names", file, l)?;
                 for _ in 0..n {
-                    let (l, toks) = ls.fields("a physical name '<dim> <tag> \"name\"'", 3, true)?;
+                    let what = "a physical name '<dim> <tag> \"name\"'";
+                    let (l, raw, toks) = ls.record(what)?;
+                    if toks.len() < 3 {
+                        return Err(err(
+                            l,
+                            format!(
+                                "expected at least 3 fields for {what}, found {}",
+                                toks.len()
+                            ),
+                        ));
+                    }
                     let dim: i32 = parse_int(toks[0], "dimension", file, l)?;
                     let tag: i32 = parse_int(toks[1], "physical tag", file, l)?;
-                    let rest = toks[2..].join(" ");
-                    let name = rest
-                        .strip_prefix('"')
-                        .and_then(|r| r.strip_suffix('"'))
-                        .ok_or_else(|| {
-                            err(l, format!("physical name {} is not quoted", shorten(&rest)))
-                        })?;
+                    // The name is everything between the first and the last quote, spaces kept.
+                    let name = match (raw.find('"'), raw.rfind('"')) {
+                        (Some(a), Some(b)) if b > a && raw[..a].split_whitespace().count() == 2 => {
+                            &raw[a + 1..b]
+                        }
+                        _ => {
+                            return Err(err(
+                                l,
+                                format!("physical name in '{}' is not quoted", shorten(raw)),
+                            ))
+                        }
+                    };
                     if dim == 2 {
                         marker_names.push((tag, name.to_string()));
                     }

@@ -56,7 +56,6 @@ pub fn parse_obj(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
     let mut tags: Vec<(i32, i32)> = Vec::new();
     let mut groups = Names::default();
     let mut materials = Names::default();
-    // Raw 1-based (or resolved negative) indices per face, checked once all vertices are known.
     for (line, toks) in data_lines(text) {
         match toks[0] {
             "v" => {
@@ -94,6 +93,7 @@ pub fn parse_obj(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
                     }
                     polygon.push(absolute);
                 }
+                // 1-based indices, checked once all vertices are known.
                 facets.push((line, polygon));
                 tags.push((groups.current, materials.current));
             }

@@ -61,7 +61,9 @@ pub fn parse_poly(text: &str, file: &Path) -> Result<PolyFile, IoError> {
     })
 }
 
-fn parse_poly_with(
+/// Parses a 2D `.poly` text, reading the points from `sibling_node(file)` when its node section
+/// is empty.
+pub(crate) fn parse_poly_with(
     text: &str,
     file: &Path,
     sibling_node: impl Fn(&Path) -> Result<PointSet, IoError>,

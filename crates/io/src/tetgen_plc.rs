@@ -27,7 +27,7 @@ use std::path::Path;
 use crate::atomic::write_atomic;
 use crate::model::check_first_index;
 use crate::node::{parse_node_section, read_node};
-use crate::poly::{parse_poly, read_poly};
+use crate::poly::{parse_poly, parse_poly_with};
 use crate::surface::{SurfaceFacet, SurfaceFile, SurfaceRegion};
 use crate::text::{
     parse_coord, parse_count, parse_int, parse_point3, point_ref, read_text, write_f64, LineCursor,
@@ -63,7 +63,7 @@ pub fn parse_smesh(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
 }
 
 /// Reads a TetGen 3D `.poly` file (and the `.node` file beside it if its node section is
-/// empty). A 2D file is an error naming [`read_poly`]; [`read_poly_any`] reads both.
+/// empty). A 2D file is an error naming [`crate::read_poly`]; [`read_poly_any`] reads both.
 pub fn read_tetgen_poly(path: &Path) -> Result<SurfaceFile, IoError> {
     let text = read_text(path)?;
     parse_plc(&text, path, Kind::Poly, read_sibling_node)
@@ -82,7 +82,7 @@ pub fn read_poly_any(path: &Path) -> Result<AnyPoly, IoError> {
     if is_3d(&text) {
         parse_plc(&text, path, Kind::Poly, read_sibling_node).map(AnyPoly::TetGen)
     } else {
-        read_poly(path).map(AnyPoly::Triangle)
+        parse_poly_with(&text, path, read_sibling_node).map(AnyPoly::Triangle)
     }
 }
 

@@ -101,7 +101,6 @@ impl<'t> LineCursor<'t> {
 /// (Medit `.mesh`, ASCII `.stl`) whose records need not follow line breaks. With `comments`,
 /// `#` starts a comment that runs to the end of the line. It borrows the text and allocates
 /// nothing, so huge files cost no more memory than their text.
-#[derive(Clone, Copy)]
 pub(crate) struct Scanner<'t> {
     text: &'t str,
     pos: usize,

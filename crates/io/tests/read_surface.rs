@@ -733,7 +733,7 @@ $MeshFormat
 $EndMeshFormat
 $PhysicalNames
 2
-2 4 \"far field\"
+2 4 \"far  field\"
 3 2 \"air\"
 $EndPhysicalNames
 $Entities
@@ -774,7 +774,7 @@ fn msh41_entities_map_to_physical_tags() {
     assert_eq!(polygons(&s), [vec![0, 2, 1], vec![0, 1, 3]]);
     // Surface 1 is in physical group 4; surface 2 in none.
     assert_eq!(markers(&s), [4, 0]);
-    assert_eq!(s.marker_names, [(4, "far field".to_string())]);
+    assert_eq!(s.marker_names, [(4, "far  field".to_string())]);
     assert_eq!(s.tetrahedra, [[0, 1, 2, 3]]);
     assert_eq!(s.tetrahedron_regions, [2]);
 
@@ -805,9 +805,9 @@ fn msh41_entities_map_to_physical_tags() {
             "node 9 is not defined in $Nodes",
         ),
         (
-            MSH41.replace("2 4 \"far field\"", "2 4 far"),
+            MSH41.replace("2 4 \"far  field\"", "2 4 far"),
             6,
-            "physical name far is not quoted",
+            "physical name in '2 4 far' is not quoted",
         ),
         // Miscounted blocks show where the counts stop matching the data.
         (
