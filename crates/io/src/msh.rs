@@ -491,14 +491,16 @@ pub fn parse_msh(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
 
 /// Gives each distinct key (a marker, a region) a positive physical tag: its own value when
 /// that is a positive integer (`own`), else the next tag after the largest such value.
-fn physical_tags(own: &[Option<i32>]) -> Vec<i32> {
+/// `None` if the free tags run out (values up to `i32::MAX` already taken).
+fn physical_tags(own: &[Option<i32>]) -> Option<Vec<i32>> {
     let mut next = own.iter().flatten().copied().max().unwrap_or(0);
     own.iter()
-        .map(|o| {
-            o.unwrap_or_else(|| {
-                next += 1;
-                next
-            })
+        .map(|o| match o {
+            Some(t) => Some(*t),
+            None => {
+                next = next.checked_add(1)?;
+                Some(next)
+            }
         })
         .collect()
 }
@@ -531,13 +533,6 @@ fn bbox(coords: &[[f64; 3]], nodes: impl Iterator<Item = u32>) -> [f64; 6] {
 /// markers and regions (see the module documentation for the numbering). Atomic.
 pub fn write_msh(path: &Path, mesh: &TetMeshOut<'_>) -> Result<(), IoError> {
     mesh.check(path)?;
-    write_atomic(path, |w| {
-        msh_body(w, mesh).map_err(|e| IoError::io(path, e))
-    })
-}
-
-fn msh_body(w: &mut dyn Write, mesh: &TetMeshOut<'_>) -> std::io::Result<()> {
-    let coords = mesh.coords;
     // Surface entities: one per distinct marker.
     let markers = mesh.distinct_markers();
     let marker_tags = physical_tags(
@@ -558,6 +553,41 @@ fn msh_body(w: &mut dyn Write, mesh: &TetMeshOut<'_>) -> std::io::Result<()> {
             })
             .collect::<Vec<_>>(),
     );
+    let (Some(marker_tags), Some(region_tags)) = (marker_tags, region_tags) else {
+        return Err(IoError::invalid(
+            path,
+            "no free physical tag is left for the markers <= 0 or non-integer regions (tags \
+             up to 2147483647 are taken)",
+        ));
+    };
+    let groups = Groups {
+        markers,
+        marker_tags,
+        regions,
+        region_tags,
+    };
+    write_atomic(path, |w| {
+        msh_body(w, mesh, &groups).map_err(|e| IoError::io(path, e))
+    })
+}
+
+/// The entities and physical groups of a mesh: distinct face markers and regions, sorted,
+/// with their physical tags.
+struct Groups {
+    markers: Vec<i32>,
+    marker_tags: Vec<i32>,
+    regions: Vec<f64>,
+    region_tags: Vec<i32>,
+}
+
+fn msh_body(w: &mut dyn Write, mesh: &TetMeshOut<'_>, groups: &Groups) -> std::io::Result<()> {
+    let coords = mesh.coords;
+    let Groups {
+        markers,
+        marker_tags,
+        regions,
+        region_tags,
+    } = groups;
     // Element indices per entity, in input order.
     let mut faces_of = vec![Vec::new(); markers.len()];
     for (k, m) in mesh.face_markers.iter().enumerate() {
@@ -574,10 +604,10 @@ fn msh_body(w: &mut dyn Write, mesh: &TetMeshOut<'_>) -> std::io::Result<()> {
 
     writeln!(w, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
     writeln!(w, "$PhysicalNames\n{}", markers.len() + regions.len())?;
-    for (&m, t) in markers.iter().zip(&marker_tags) {
+    for (&m, t) in markers.iter().zip(marker_tags) {
         writeln!(w, "2 {t} \"{}\"", mesh.marker_name(m))?;
     }
-    for (&r, t) in regions.iter().zip(&region_tags) {
+    for (&r, t) in regions.iter().zip(region_tags) {
         writeln!(w, "3 {t} \"region_{}\"", format_f64(r))?;
     }
     writeln!(w, "$EndPhysicalNames")?;

@@ -160,6 +160,21 @@ fn msh_without_regions_or_faces_still_has_an_entity_for_the_nodes() {
 }
 
 #[test]
+fn msh_refuses_markers_when_no_physical_tag_is_free() {
+    let dir = tempfile::tempdir().unwrap();
+    let markers = [i32::MAX, 0];
+    let faces = [FACES[0], FACES[1]];
+    let mesh = TetMeshOut {
+        faces: &faces,
+        face_markers: &markers,
+        ..cube()
+    };
+    let e = write_msh(&dir.path().join("m.msh"), &mesh).unwrap_err();
+    assert!(e.to_string().contains("no free physical tag"), "{e}");
+    assert!(entries(dir.path()).is_empty());
+}
+
+#[test]
 fn medit_snapshot_and_round_trip() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cube.mesh");
