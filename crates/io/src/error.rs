@@ -27,6 +27,17 @@ pub enum IoError {
         /// What is wrong, in words.
         message: String,
     },
+    /// A binary file is malformed (binary `.stl`); `offset` is the byte where the problem is,
+    /// since such a file has no lines.
+    #[error("{file}: byte {offset}: {message}", file = .file.display())]
+    Binary {
+        /// The file being read.
+        file: PathBuf,
+        /// 0-based byte offset of the offending record or field.
+        offset: u64,
+        /// What is wrong, in words.
+        message: String,
+    },
     /// The data handed to a writer is inconsistent (bad dimension, index out of range, array of
     /// the wrong length, non-finite coordinate, ...). Nothing was written.
     #[error("{file}: {message}", file = .file.display())]
@@ -58,6 +69,7 @@ impl IoError {
         match self {
             IoError::Io { file, .. }
             | IoError::Parse { file, .. }
+            | IoError::Binary { file, .. }
             | IoError::InvalidInput { file, .. }
             | IoError::Vtk { file, .. }
             | IoError::UnknownFormat { file } => file,
@@ -83,6 +95,14 @@ impl IoError {
         IoError::Parse {
             file: file.to_path_buf(),
             line,
+            message: message.into(),
+        }
+    }
+
+    pub(crate) fn binary(file: &Path, offset: u64, message: impl Into<String>) -> Self {
+        IoError::Binary {
+            file: file.to_path_buf(),
+            offset,
             message: message.into(),
         }
     }
@@ -123,6 +143,9 @@ mod tests {
             file: PathBuf::from("m.stl"),
         };
         assert!(e.to_string().starts_with("m.stl: unknown"));
+        let e = IoError::binary(Path::new("m.stl"), 84, "bad");
+        assert_eq!(e.to_string(), "m.stl: byte 84: bad");
+        assert_eq!(e.line(), None);
         let e = IoError::invalid(Path::new("m.node"), "dimension must be 2 or 3, found 4");
         assert_eq!(e.to_string(), "m.node: dimension must be 2 or 3, found 4");
     }

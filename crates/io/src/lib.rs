@@ -1,25 +1,36 @@
 //! File input and output for delmesh: point sets in, meshes out.
 //!
 //! This crate is the only place delmesh touches mesh and point files. It depends on no other
-//! delmesh crate: readers return and writers take plain arrays ([`PointSet`], [`SimplexMesh`]),
-//! so the core algorithms stay free of I/O and any front end can use the formats.
+//! delmesh crate: readers return and writers take plain arrays ([`PointSet`], [`SimplexMesh`],
+//! [`SurfaceFile`], [`TetMeshOut`]), so the core algorithms stay free of I/O and any front end
+//! can use the formats.
 //!
 //! | format | read | write |
 //! | --- | --- | --- |
 //! | TetGen/Triangle `.node` | [`read_node`], [`parse_node`] | [`write_node`] |
 //! | TetGen/Triangle `.ele`, `.neigh` | | [`write_ele`], [`write_neigh`], [`write_tetgen_family`] |
 //! | plain text `x y [z]` | [`read_xyz`], [`parse_xyz`] | |
-//! | VTK XML `.vtu` | [`read_vtu`] (triangles/tetrahedra + point fields) | [`write_vtu`], [`write_vtu_polygons`] |
+//! | VTK XML `.vtu` | [`read_vtu`] (triangles/tetrahedra + point fields) | [`write_vtu`], [`write_vtu_polygons`], [`write_tet_mesh_vtu`] (3D mesh + `.boundary.vtu`) |
 //! | Triangle `.poly` (2D PSLG) | [`read_poly`], [`parse_poly`] | [`write_poly`] |
 //! | Triangle `.node/.ele/.edge` with markers | [`read_triangle_mesh`] | [`write_triangle_family`] |
 //! | SVG picture of a 2D mesh | | [`write_svg`] |
+//! | TetGen `.smesh` (3D surface) | [`read_smesh`], [`parse_smesh`] | [`write_smesh`] |
+//! | TetGen `.poly` (3D PLC) | [`read_tetgen_poly`], [`parse_tetgen_poly`]; either dimension: [`read_poly_any`], [`parse_poly_any`] | [`write_tetgen_poly`] |
+//! | Geomview `.off` | [`read_off`], [`parse_off`] | [`write_off`] |
+//! | `.stl`, ASCII and binary | [`read_stl`], [`parse_stl`] | |
+//! | Wavefront `.obj` | [`read_obj`], [`parse_obj`] | |
+//! | Medit `.mesh` | [`read_medit`], [`parse_medit`] (surface and tetrahedra) | [`write_medit`] |
+//! | gmsh `.msh` 2.2 / 4.1 ASCII | [`read_msh`], [`parse_msh`] (surface and tetrahedra) | [`write_msh`] (4.1) |
+//! | SU2 `.su2` | | [`write_su2`] |
+//! | TetGen `.node/.ele/.face` with markers and regions | | [`write_tetgen_mesh`] |
 //!
-//! [`read_points`] picks the reader from the extension.
+//! [`read_points`] picks a point reader, [`read_surface`] a surface reader and
+//! [`write_tet_mesh`] a tetrahedral-mesh writer from the extension.
 //!
 //! Guarantees:
 //! - Readers never panic, whatever the input; every error is an [`IoError`] naming the file and,
-//!   for malformed text, the 1-based line (`points.node:12: expected 4 fields, found 3`).
-//!   Non-finite coordinates are rejected.
+//!   for malformed text, the 1-based line (`points.node:12: expected 4 fields, found 3`; binary
+//!   files: the byte offset). Non-finite coordinates are rejected.
 //! - Writers check their input before touching the file system, and write atomically
 //!   ([`write_atomic`]): on error the destination keeps its old contents.
 //! - Numbers in text files are written in shortest round-trip form: reading a written `.node`
@@ -43,10 +54,20 @@
 
 mod atomic;
 mod error;
+mod medit;
 mod model;
+mod msh;
 mod node;
+mod obj;
+mod off;
 mod poly;
+mod stl;
+mod su2;
+mod surface;
 mod svg;
+mod tetgen_mesh;
+mod tetgen_plc;
+mod tetmesh;
 mod text;
 mod triangle;
 mod vtu;
@@ -54,10 +75,23 @@ mod xyz;
 
 pub use atomic::write_atomic;
 pub use error::IoError;
+pub use medit::{parse_medit, read_medit, write_medit};
 pub use model::{PointSet, SimplexMesh};
+pub use msh::{parse_msh, read_msh, write_msh};
 pub use node::{parse_node, read_node, write_ele, write_neigh, write_node, write_tetgen_family};
+pub use obj::{parse_obj, read_obj};
+pub use off::{parse_off, read_off, write_off};
 pub use poly::{parse_poly, read_poly, write_poly, PolyFile, PolyRegion};
+pub use stl::{parse_stl, read_stl};
+pub use su2::write_su2;
+pub use surface::{read_surface, SurfaceFacet, SurfaceFile, SurfaceRegion};
 pub use svg::{write_svg, SvgMesh, SvgOptions};
+pub use tetgen_mesh::write_tetgen_mesh;
+pub use tetgen_plc::{
+    parse_poly_any, parse_smesh, parse_tetgen_poly, read_poly_any, read_smesh, read_tetgen_poly,
+    write_smesh, write_tetgen_poly, AnyPoly,
+};
+pub use tetmesh::{write_tet_mesh, TetMeshOut};
 pub use triangle::{read_triangle_mesh, write_triangle_family, TriangleMeshOut};
-pub use vtu::{read_vtu, write_vtu, write_vtu_polygons, FieldMesh};
+pub use vtu::{read_vtu, write_tet_mesh_vtu, write_vtu, write_vtu_polygons, FieldMesh};
 pub use xyz::{parse_xyz, read_points, read_xyz};

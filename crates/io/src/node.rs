@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 
 use crate::atomic::write_atomic;
 use crate::model::{check_first_index, check_points};
-use crate::text::{data_lines, last_line, parse_coord, read_text, shorten, write_f64};
+use crate::text::{data_lines, last_line, parse_coord, read_text, shorten, write_f64, DataLines};
 use crate::{IoError, PointSet, SimplexMesh};
 
 const AXES: [&str; 3] = ["x", "y", "z"];
@@ -30,9 +30,30 @@ pub fn read_node(path: &Path) -> Result<PointSet, IoError> {
 
 /// Parses the text of a `.node` file; `file` is only used in error messages.
 pub fn parse_node(text: &str, file: &Path) -> Result<PointSet, IoError> {
-    let err = |line: usize, message: String| IoError::parse(file, line, message);
-    let mut lines = data_lines(text);
+    let mut lines = data_lines(text).peekable();
+    let (points, hline) = parse_node_section(&mut lines, text, file)?;
+    if let Some((line, _)) = lines.next() {
+        return Err(IoError::parse(
+            file,
+            line,
+            format!(
+                "extra data after the {} points declared in the header (line {hline})",
+                points.len()
+            ),
+        ));
+    }
+    Ok(points)
+}
 
+/// Parses a `.node` header and its point lines from `lines`, leaving the iterator after the
+/// last point: a whole `.node` file, or the first section of a `.poly`/`.smesh` file. Returns
+/// the points and the header's line number.
+pub(crate) fn parse_node_section(
+    lines: &mut std::iter::Peekable<DataLines<'_>>,
+    text: &str,
+    file: &Path,
+) -> Result<(PointSet, usize), IoError> {
+    let err = |line: usize, message: String| IoError::parse(file, line, message);
     let Some((hline, header)) = lines.next() else {
         return Err(err(
             last_line(text),
@@ -96,13 +117,16 @@ pub fn parse_node(text: &str, file: &Path) -> Result<PointSet, IoError> {
     let mut first_index = 0i64;
     let mut found = 0usize;
 
-    for (line, toks) in lines {
-        if found == n {
+    while found < n {
+        let Some((line, toks)) = lines.next() else {
             return Err(err(
-                line,
-                format!("extra data after the {n} points declared in the header (line {hline})"),
+                last_line(text),
+                format!(
+                    "unexpected end of file: the header (line {hline}) declares {n} points \
+                     but the file has only {found}"
+                ),
             ));
-        }
+        };
         if toks.len() != n_fields {
             return Err(err(
                 line,
@@ -170,26 +194,18 @@ pub fn parse_node(text: &str, file: &Path) -> Result<PointSet, IoError> {
         }
         found += 1;
     }
-    if found < n {
-        return Err(err(
-            last_line(text),
-            format!(
-                "unexpected end of file: the header (line {hline}) declares {n} points \
-                 but the file has only {found}"
-            ),
-        ));
-    }
 
     let attributes = (0..n_attr)
         .map(|a| attr_flat.iter().skip(a).step_by(n_attr).copied().collect())
         .collect();
-    Ok(PointSet {
+    let points = PointSet {
         dim,
         coords,
         first_index: first_index as u32,
         attributes,
         markers: (n_mark == 1).then_some(markers),
-    })
+    };
+    Ok((points, hline))
 }
 
 /// Writes points as a `.node` file: header `<n> <dim> 0 0`, then `<i> x y [z]` numbered from

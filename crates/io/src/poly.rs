@@ -6,7 +6,8 @@
 //! then `<#segments> <#markers 0|1>` and lines `<i> <a> <b> [marker]`, then `<#holes>` and
 //! lines `<i> <x> <y>`, then optionally `<#regions>` and lines `<i> <x> <y> <attribute>
 //! [<max area>]`. Segment end points use the points' numbering (from 0 or 1) and are stored
-//! 0-based. 3D `.poly` files (TetGen's PLCs) are not read yet.
+//! 0-based. 3D `.poly` files (TetGen's PLCs) are read by [`crate::read_tetgen_poly`];
+//! [`crate::read_poly_any`] reads either dimension.
 
 use std::path::Path;
 
@@ -60,7 +61,9 @@ pub fn parse_poly(text: &str, file: &Path) -> Result<PolyFile, IoError> {
     })
 }
 
-fn parse_poly_with(
+/// Parses a 2D `.poly` text, reading the points from `sibling_node(file)` when its node section
+/// is empty.
+pub(crate) fn parse_poly_with(
     text: &str,
     file: &Path,
     sibling_node: impl Fn(&Path) -> Result<PointSet, IoError>,
@@ -92,7 +95,8 @@ fn parse_poly_with(
         if *dim == "3" {
             return Err(err(
                 *hline,
-                "3D .poly files (TetGen PLCs) are not supported yet".into(),
+                "3D .poly file (a TetGen PLC): read it with read_tetgen_poly or read_poly_any"
+                    .into(),
             ));
         }
     }

@@ -24,16 +24,150 @@ pub(crate) fn read_text(path: &Path) -> Result<String, IoError> {
 
 /// The lines that carry data: `(1-based line number, tokens)`, with everything from `#` on
 /// removed and blank lines skipped. A leading byte-order mark is ignored.
-pub(crate) fn data_lines(text: &str) -> impl Iterator<Item = (usize, Vec<&str>)> + '_ {
+pub(crate) fn data_lines(text: &str) -> DataLines<'_> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    text.lines().enumerate().filter_map(|(i, raw)| {
-        let content = match raw.find('#') {
-            Some(pos) => &raw[..pos],
-            None => raw,
-        };
-        let tokens: Vec<&str> = content.split_whitespace().collect();
-        (!tokens.is_empty()).then_some((i + 1, tokens))
-    })
+    DataLines {
+        inner: text.lines().enumerate(),
+    }
+}
+
+/// The iterator of [`data_lines`]: a named type so that readers can keep it in a struct.
+pub(crate) struct DataLines<'t> {
+    inner: std::iter::Enumerate<std::str::Lines<'t>>,
+}
+
+impl<'t> Iterator for DataLines<'t> {
+    type Item = (usize, Vec<&'t str>);
+
+    fn next(&mut self) -> Option<Self::Item> {
+        for (i, raw) in self.inner.by_ref() {
+            let content = match raw.find('#') {
+                Some(pos) => &raw[..pos],
+                None => raw,
+            };
+            let tokens: Vec<&str> = content.split_whitespace().collect();
+            if !tokens.is_empty() {
+                return Some((i + 1, tokens));
+            }
+        }
+        None
+    }
+}
+
+/// Data lines read one section after another, for formats whose counts are in header lines
+/// (`.poly`, `.smesh`, `.off`): running out of lines is an "unexpected end of file" error that
+/// says what was expected.
+pub(crate) struct LineCursor<'t> {
+    lines: std::iter::Peekable<DataLines<'t>>,
+    file: &'t Path,
+    last_line: usize,
+}
+
+impl<'t> LineCursor<'t> {
+    pub(crate) fn new(text: &'t str, file: &'t Path) -> Self {
+        LineCursor {
+            lines: data_lines(text).peekable(),
+            file,
+            last_line: last_line(text),
+        }
+    }
+
+    /// The next data line; at the end of the file, an error saying `what` was expected.
+    pub(crate) fn next(&mut self, what: &str) -> Result<(usize, Vec<&'t str>), IoError> {
+        self.lines.next().ok_or_else(|| self.eof(what))
+    }
+
+    /// The next data line, if any.
+    pub(crate) fn next_opt(&mut self) -> Option<(usize, Vec<&'t str>)> {
+        self.lines.next()
+    }
+
+    /// The "unexpected end of file" error, on the file's last line.
+    pub(crate) fn eof(&self, what: &str) -> IoError {
+        IoError::parse(
+            self.file,
+            self.last_line,
+            format!("unexpected end of file: expected {what}"),
+        )
+    }
+
+    /// The underlying iterator (for [`crate::node`]'s section parser).
+    pub(crate) fn lines(&mut self) -> &mut std::iter::Peekable<DataLines<'t>> {
+        &mut self.lines
+    }
+}
+
+/// A whitespace-separated token scanner that keeps 1-based line numbers, for free-format files
+/// (Medit `.mesh`, ASCII `.stl`) whose records need not follow line breaks. With `comments`,
+/// `#` starts a comment that runs to the end of the line. It borrows the text and allocates
+/// nothing, so huge files cost no more memory than their text.
+pub(crate) struct Scanner<'t> {
+    text: &'t str,
+    pos: usize,
+    line: usize,
+    comments: bool,
+}
+
+impl<'t> Scanner<'t> {
+    pub(crate) fn new(text: &'t str, comments: bool) -> Self {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        Scanner {
+            text,
+            pos: 0,
+            line: 1,
+            comments,
+        }
+    }
+
+    /// Skips white space (and comments), leaving `pos` at the next token or the end.
+    fn skip_blank(&mut self) {
+        let bytes = self.text.as_bytes();
+        while self.pos < bytes.len() {
+            match bytes[self.pos] {
+                b'\n' => {
+                    self.line += 1;
+                    self.pos += 1;
+                }
+                b'#' if self.comments => {
+                    while self.pos < bytes.len() && bytes[self.pos] != b'\n' {
+                        self.pos += 1;
+                    }
+                }
+                b if b.is_ascii_whitespace() => self.pos += 1,
+                _ => break,
+            }
+        }
+    }
+
+    /// The next token and its line.
+    pub(crate) fn next_token(&mut self) -> Option<(usize, &'t str)> {
+        self.skip_blank();
+        let bytes = self.text.as_bytes();
+        let start = self.pos;
+        while self.pos < bytes.len()
+            && !bytes[self.pos].is_ascii_whitespace()
+            && !(self.comments && bytes[self.pos] == b'#')
+        {
+            self.pos += 1;
+        }
+        (self.pos > start).then(|| (self.line, &self.text[start..self.pos]))
+    }
+
+    /// The rest of the current line (trimmed, comments not removed), consumed up to but not
+    /// including the line break.
+    pub(crate) fn rest_of_line(&mut self) -> &'t str {
+        let bytes = self.text.as_bytes();
+        let start = self.pos;
+        while self.pos < bytes.len() && bytes[self.pos] != b'\n' {
+            self.pos += 1;
+        }
+        self.text[start..self.pos].trim()
+    }
+
+    /// The line the scanner is on (of the last token read, or of the end of the file).
+    pub(crate) fn line(&self) -> usize {
+        self.line
+    }
 }
 
 /// The number of the last line of `text` (at least 1), used for "unexpected end of file".
@@ -69,6 +203,83 @@ pub(crate) fn parse_coord(
     }
 }
 
+/// Parses a token as a non-negative count; `what` names it in messages.
+pub(crate) fn parse_count(
+    token: &str,
+    what: &str,
+    file: &Path,
+    line: usize,
+) -> Result<usize, IoError> {
+    token.parse::<usize>().map_err(|_| {
+        IoError::parse(
+            file,
+            line,
+            format!(
+                "expected a non-negative integer for the {what}, found '{}'",
+                shorten(token)
+            ),
+        )
+    })
+}
+
+/// Parses a token as an integer of type `T` (`i32` markers, `i64` indices); `what` names it.
+pub(crate) fn parse_int<T: std::str::FromStr>(
+    token: &str,
+    what: &str,
+    file: &Path,
+    line: usize,
+) -> Result<T, IoError> {
+    token.parse::<T>().map_err(|_| {
+        IoError::parse(
+            file,
+            line,
+            format!(
+                "expected an integer for the {what}, found '{}'",
+                shorten(token)
+            ),
+        )
+    })
+}
+
+/// Three coordinates `x y z` from three tokens, each finite.
+pub(crate) fn parse_point3(tokens: &[&str], file: &Path, line: usize) -> Result<[f64; 3], IoError> {
+    Ok([
+        parse_coord(tokens[0], "x", file, line)?,
+        parse_coord(tokens[1], "y", file, line)?,
+        parse_coord(tokens[2], "z", file, line)?,
+    ])
+}
+
+/// Turns a point number as the file writes it (`raw`, numbered from `base`) into a 0-based
+/// index, or an error naming the valid range.
+pub(crate) fn point_ref(
+    raw: i64,
+    base: i64,
+    n_points: usize,
+    file: &Path,
+    line: usize,
+) -> Result<u32, IoError> {
+    let i = raw
+        .checked_sub(base)
+        .filter(|&i| i >= 0 && (i as u64) < n_points as u64);
+    match i {
+        Some(i) => Ok(i as u32),
+        None if n_points == 0 => Err(IoError::parse(
+            file,
+            line,
+            format!("point {raw} does not exist (there are no points)"),
+        )),
+        None => Err(IoError::parse(
+            file,
+            line,
+            format!(
+                "point {raw} does not exist (points are numbered {base} to {})",
+                base + n_points as i64 - 1
+            ),
+        )),
+    }
+}
+
 /// Cuts very long tokens so a garbage file does not produce a megabyte-long message.
 pub(crate) fn shorten(token: &str) -> String {
     const MAX: usize = 40;
@@ -94,14 +305,19 @@ pub(crate) fn write_f64(w: &mut dyn Write, x: f64) -> std::io::Result<()> {
     }
 }
 
+/// [`write_f64`] into a `String`, for numbers that end up inside names.
+pub(crate) fn format_f64(x: f64) -> String {
+    let mut v = Vec::new();
+    write_f64(&mut v, x).expect("writing to a Vec cannot fail; a bug in delmesh");
+    String::from_utf8(v).expect("numbers are ASCII; a bug in delmesh")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn fmt(x: f64) -> String {
-        let mut v = Vec::new();
-        write_f64(&mut v, x).unwrap();
-        String::from_utf8(v).unwrap()
+        format_f64(x)
     }
 
     #[test]

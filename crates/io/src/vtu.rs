@@ -5,9 +5,10 @@
 //! optional per-point and per-cell scalar fields; [`write_vtu_polygons`] writes polygons (2D
 //! Voronoi cells, or the faces of 3D Voronoi cells). Data is stored as base64 binary `Float64`
 //! (coordinates and fields are exact), little endian, uncompressed; 2D points get `z = 0`.
-//! The XML is built in memory by `vtkio` and written through [`write_atomic`].
+//! [`write_tet_mesh_vtu`] writes a 3D mesh with its markers and regions as a volume file and a
+//! boundary file. The XML is built in memory by `vtkio` and written through [`write_atomic`].
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use vtkio::model::{
     Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, ElementType, IOBuffer,
@@ -16,6 +17,7 @@ use vtkio::model::{
 
 use crate::atomic::write_atomic;
 use crate::model::check_points;
+use crate::tetmesh::{sibling, TetMeshOut};
 use crate::{IoError, SimplexMesh};
 
 /// A mesh read from a file, with named point fields: a background mesh (field `spacing`) or a
@@ -244,6 +246,72 @@ pub fn write_vtu_polygons(
         },
     };
     export(path, piece)
+}
+
+/// Writes a tetrahedral mesh as two `.vtu` files: `X.vtu` with the tetrahedra (cell field
+/// `region` if the mesh has regions, point field `marker` if it has point markers) and
+/// `X.boundary.vtu` with the boundary triangles (`VTK_TRIANGLE`, cell field `marker`) on the
+/// same points, so ParaView can show the surface patches by marker over the volume. `X` is
+/// `path` without a `.vtu` extension. Markers are `Int32`, regions `Float64`. Returns the two
+/// paths. Everything is checked before the first file is written; each file is atomic.
+pub fn write_tet_mesh_vtu(path: &Path, mesh: &TetMeshOut<'_>) -> Result<Vec<PathBuf>, IoError> {
+    mesh.check(path)?;
+    let volume = sibling(path, &["vtu"], "vtu");
+    let boundary = sibling(path, &["vtu"], "boundary.vtu");
+    let points: Vec<f64> = mesh.coords.iter().flatten().copied().collect();
+    let point_attrs: Vec<Attribute> = mesh
+        .point_markers
+        .map(|m| int_field("marker", m))
+        .into_iter()
+        .collect();
+    let cell_attrs = match mesh.regions {
+        Some(r) => fields(path, "cell", &[("region", r)], mesh.tets.len())?,
+        None => Vec::new(),
+    };
+    let piece = UnstructuredGridPiece {
+        points: IOBuffer::F64(points.clone()),
+        cells: fixed_cells(mesh.tets.iter().flatten(), 4, CellType::Tetra),
+        data: Attributes {
+            point: point_attrs.clone(),
+            cell: cell_attrs,
+        },
+    };
+    export(&volume, piece)?;
+    let piece = UnstructuredGridPiece {
+        points: IOBuffer::F64(points),
+        cells: fixed_cells(mesh.faces.iter().flatten(), 3, CellType::Triangle),
+        data: Attributes {
+            point: point_attrs,
+            cell: vec![int_field("marker", mesh.face_markers)],
+        },
+    };
+    export(&boundary, piece)?;
+    Ok(vec![volume, boundary])
+}
+
+/// Cells of `nv` vertices each, all of one type.
+fn fixed_cells<'a>(vertices: impl Iterator<Item = &'a u32>, nv: usize, ty: CellType) -> Cells {
+    let connectivity: Vec<u64> = vertices.map(|&v| u64::from(v)).collect();
+    let n = connectivity.len() / nv;
+    Cells {
+        cell_verts: VertexNumbers::XML {
+            connectivity,
+            offsets: (1..=n).map(|c| (c * nv) as u64).collect(),
+        },
+        types: vec![ty; n],
+    }
+}
+
+/// An `Int32` scalar field (markers).
+fn int_field(name: &str, values: &[i32]) -> Attribute {
+    Attribute::DataArray(DataArray {
+        name: name.to_string(),
+        elem: ElementType::Scalars {
+            num_comp: 1,
+            lookup_table: None,
+        },
+        data: IOBuffer::I32(values.to_vec()),
+    })
 }
 
 /// Pads 2D coordinates with `z = 0`; copies 3D ones.

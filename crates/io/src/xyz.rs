@@ -17,7 +17,7 @@ use crate::{IoError, PointSet};
 /// instead of reporting a confusing parse error on their first line.
 const NOT_POINT_LISTS: &[&str] = &[
     "ele", "neigh", "face", "edge", "poly", "smesh", "vtu", "vtk", "vtp", "msh", "stl", "obj",
-    "ply",
+    "ply", "off", "mesh", "su2",
 ];
 
 /// Reads points from `path`, choosing the format from the extension: `.node` is read as a

@@ -1,0 +1,701 @@
+//! gmsh `.msh` files: read in the ASCII versions 2.2 and 4.1, written in version 4.1 ASCII.
+//!
+//! gmsh is the most widely used open mesher in CFD, and its `.msh` is read by many solvers
+//! (OpenFOAM's `gmshToFoam`, SU2 via converters, Code_Saturne, Fluidity...). Boundary
+//! conditions travel as *physical groups*: a boundary marker here is a physical tag.
+//!
+//! Reading (surface triangles as facets, tetrahedra as a volume mesh):
+//! - sections `$MeshFormat` (version `2.x` or `4.1`, file type 0; binary files are refused with
+//!   a hint to save as ASCII, gmsh 4.0 files too), `$PhysicalNames` (optional; names of
+//!   dimension 2 become marker names), `$Entities` (4.1), `$Nodes`, `$Elements`. Other sections
+//!   (`$Periodic`, `$NodeData`, `$Comments`...) are skipped up to their `$End` line.
+//! - element types 2 (3-node triangle) and 3 (4-node quadrangle) become facets, type 4
+//!   (4-node tetrahedron) tetrahedra; other types (points, lines, higher-order elements) are
+//!   skipped.
+//! - markers: in 2.2 an element's first tag is its physical tag (0 or no tags: marker 0); in
+//!   4.1 an element block's entity is looked up in `$Entities` and its first physical tag is
+//!   the marker (no physical tag, or no `$Entities`: 0). Tetrahedra get their region the same
+//!   way.
+//! - node tags may be any positive integers in any order; points are numbered in file order.
+//!   Records are read one per line, as gmsh and every other writer we know write them.
+//!
+//! Writing (version 4.1): `$MeshFormat`, `$PhysicalNames`, `$Entities` with one surface entity
+//! per face marker (tags 1, 2, ... in increasing marker order) and one volume entity per region
+//! (likewise), each in a physical group of its own, `$Nodes` (one block, on the first volume
+//! entity, tags 1..n), `$Elements` (a block of triangles, type 2, per surface entity, then a
+//! block of tetrahedra, type 4, per volume entity; element tags 1.. in that order, so the
+//! triangles come out grouped by marker). A marker `m > 0` is physical tag `m`, named by
+//! [`TetMeshOut::marker_names`] or `marker_<m>`; a region `r` that is a positive integer is
+//! volume physical tag `r`, named `region_<r>`. Markers `<= 0` and other regions (gmsh physical
+//! tags must be positive) get the next free tags, and keep their value in their name
+//! (`marker_0`, `region_0.5`).
+
+use std::collections::HashMap;
+use std::io::Write;
+use std::path::Path;
+
+use crate::atomic::write_atomic;
+use crate::surface::{SurfaceFacet, SurfaceFile};
+use crate::tetmesh::TetMeshOut;
+use crate::text::{format_f64, parse_coord, parse_count, parse_int, read_text, shorten, write_f64};
+use crate::IoError;
+
+/// Reads a gmsh `.msh` file (ASCII, version 2.2 or 4.1).
+pub fn read_msh(path: &Path) -> Result<SurfaceFile, IoError> {
+    let bytes = std::fs::read(path).map_err(|e| IoError::io(path, e))?;
+    // A binary file has an ASCII header; refuse it by that rather than by its invalid UTF-8.
+    if let Some(version) = binary_header(&bytes) {
+        return Err(binary_error(path, version));
+    }
+    let text = read_text(path)?;
+    parse_msh(&text, path)
+}
+
+fn binary_header(bytes: &[u8]) -> Option<usize> {
+    let head = &bytes[..bytes.len().min(256)];
+    let head = String::from_utf8_lossy(head);
+    let mut lines = head.lines().map(str::trim).filter(|l| !l.is_empty());
+    (lines.next()? == "$MeshFormat").then_some(())?;
+    let toks: Vec<&str> = lines.next()?.split_whitespace().collect();
+    (toks.get(1) == Some(&"1")).then_some(2)
+}
+
+fn binary_error(file: &Path, line: usize) -> IoError {
+    IoError::parse(
+        file,
+        line,
+        "binary .msh files are not supported: save the mesh as ASCII (in gmsh, untick \
+         'Binary' in the export options, or run gmsh without -bin)",
+    )
+}
+
+/// The `.msh` versions read.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Version {
+    V2,
+    V41,
+}
+
+/// Non-blank lines with their 1-based numbers.
+struct Lines<'t> {
+    inner: std::iter::Enumerate<std::str::Lines<'t>>,
+    file: &'t Path,
+    last: usize,
+}
+
+impl<'t> Lines<'t> {
+    fn next_opt(&mut self) -> Option<(usize, &'t str)> {
+        self.inner
+            .by_ref()
+            .map(|(i, l)| (i + 1, l.trim()))
+            .find(|(_, l)| !l.is_empty())
+    }
+
+    fn next(&mut self, what: &str) -> Result<(usize, &'t str), IoError> {
+        self.next_opt().ok_or_else(|| {
+            IoError::parse(
+                self.file,
+                self.last,
+                format!("unexpected end of file: expected {what}"),
+            )
+        })
+    }
+
+    /// The next record of a section: its line, its text and its fields. A section keyword
+    /// instead means the section's count was larger than its records.
+    fn record(&mut self, what: &str) -> Result<(usize, &'t str, Vec<&'t str>), IoError> {
+        let (line, raw) = self.next(what)?;
+        if raw.starts_with('$') {
+            return Err(IoError::parse(
+                self.file,
+                line,
+                format!(
+                    "expected {what}, found '{}': fewer records than the section's count",
+                    shorten(raw)
+                ),
+            ));
+        }
+        Ok((line, raw, raw.split_whitespace().collect()))
+    }
+
+    /// The next record, split into exactly `n` fields (or at least `n` with `at_least`).
+    fn fields(
+        &mut self,
+        what: &str,
+        n: usize,
+        at_least: bool,
+    ) -> Result<(usize, Vec<&'t str>), IoError> {
+        let (line, _, toks) = self.record(what)?;
+        if toks.len() < n || (!at_least && toks.len() > n) {
+            return Err(IoError::parse(
+                self.file,
+                line,
+                format!(
+                    "expected {}{n} fields for {what}, found {}",
+                    if at_least { "at least " } else { "" },
+                    toks.len()
+                ),
+            ));
+        }
+        Ok((line, toks))
+    }
+
+    fn expect_end(&mut self, section: &str) -> Result<(), IoError> {
+        let end = format!("$End{section}");
+        let (line, raw) = self.next(&format!("'{end}'"))?;
+        if raw != end {
+            return Err(IoError::parse(
+                self.file,
+                line,
+                format!("expected '{end}', found '{}'", shorten(raw)),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// An element read before its markers are known: which entity (4.1) or physical tag (2.2).
+struct Pending {
+    line: usize,
+    nodes: Vec<u32>,
+    /// 2.2: the physical tag. 4.1: the entity tag.
+    tag: i32,
+}
+
+/// Parses the text of an ASCII `.msh` file (version 2.2 or 4.1); `file` names it in messages.
+pub fn parse_msh(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
+    let err = |line: usize, message: String| IoError::parse(file, line, message);
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut ls = Lines {
+        inner: text.lines().enumerate(),
+        file,
+        last: text.lines().count().max(1),
+    };
+    let mut version = None;
+    let mut points: Vec<[f64; 3]> = Vec::new();
+    let mut node_index: HashMap<u64, u32> = HashMap::new();
+    let mut marker_names = Vec::new();
+    // (dim, entity tag) -> first physical tag (4.1).
+    let mut entity_physical: HashMap<(i32, i32), i32> = HashMap::new();
+    let mut facets: Vec<Pending> = Vec::new();
+    let mut tets: Vec<Pending> = Vec::new();
+
+    while let Some((line, raw)) = ls.next_opt() {
+        let need_version =
+            |v: Option<Version>| v.ok_or_else(|| err(line, format!("{raw} before $MeshFormat")));
+        match raw {
+            "$MeshFormat" => {
+                let (l, toks) =
+                    ls.fields("the format line '<version> <file type> <size>'", 3, false)?;
+                if toks[1] != "0" {
+                    return Err(if toks[1] == "1" {
+                        binary_error(file, l)
+                    } else {
+                        err(l, format!("unknown file type '{}'", shorten(toks[1])))
+                    });
+                }
+                version = Some(match toks[0] {
+                    "4.1" => Version::V41,
+                    v if v == "2" || v.starts_with("2.") => Version::V2,
+                    v if v == "4" || v.starts_with("4.0") => {
+                        return Err(err(
+                            l,
+                            format!(
+                                "gmsh format {v} is not supported: save the mesh in format \
+                                 4.1 or 2.2"
+                            ),
+                        ))
+                    }
+                    v => {
+                        return Err(err(
+                            l,
+                            format!("unsupported gmsh format version '{}'", shorten(v)),
+                        ))
+                    }
+                });
+                ls.expect_end("MeshFormat")?;
+            }
+            "$PhysicalNames" => {
+                let (l, toks) = ls.fields("the number of physical names", 1, false)?;
+                let n = parse_count(toks[0], "number of physical names", file, l)?;
+                for _ in 0..n {
+                    let what = "a physical name '<dim> <tag> \"name\"'";
+                    let (l, raw, toks) = ls.record(what)?;
+                    if toks.len() < 3 {
+                        return Err(err(
+                            l,
+                            format!(
+                                "expected at least 3 fields for {what}, found {}",
+                                toks.len()
+                            ),
+                        ));
+                    }
+                    let dim: i32 = parse_int(toks[0], "dimension", file, l)?;
+                    let tag: i32 = parse_int(toks[1], "physical tag", file, l)?;
+                    // The name is everything between the first and the last quote, spaces kept.
+                    let name = match (raw.find('"'), raw.rfind('"')) {
+                        (Some(a), Some(b)) if b > a && raw[..a].split_whitespace().count() == 2 => {
+                            &raw[a + 1..b]
+                        }
+                        _ => {
+                            return Err(err(
+                                l,
+                                format!("physical name in '{}' is not quoted", shorten(raw)),
+                            ))
+                        }
+                    };
+                    if dim == 2 {
+                        marker_names.push((tag, name.to_string()));
+                    }
+                }
+                ls.expect_end("PhysicalNames")?;
+            }
+            "$Entities" => {
+                if need_version(version)? != Version::V41 {
+                    return Err(err(line, "$Entities in a version 2 file".into()));
+                }
+                let (l, toks) = ls.fields("the entity counts", 4, false)?;
+                let mut counts = [0usize; 4];
+                for (c, t) in counts.iter_mut().zip(&toks) {
+                    *c = parse_count(t, "number of entities", file, l)?;
+                }
+                for (dim, &n) in counts.iter().enumerate() {
+                    // Points have a position, the others a bounding box.
+                    let skip = if dim == 0 { 3 } else { 6 };
+                    for _ in 0..n {
+                        let (l, toks) = ls.fields("an entity", 2 + skip, true)?;
+                        let tag: i32 = parse_int(toks[0], "entity tag", file, l)?;
+                        let n_phys =
+                            parse_count(toks[1 + skip], "number of physical tags", file, l)?;
+                        if n_phys > 0 {
+                            let t = toks.get(2 + skip).ok_or_else(|| {
+                                err(l, "missing physical tag of the entity".into())
+                            })?;
+                            entity_physical
+                                .insert((dim as i32, tag), parse_int(t, "physical tag", file, l)?);
+                        }
+                    }
+                }
+                ls.expect_end("Entities")?;
+            }
+            "$Nodes" => {
+                let v = need_version(version)?;
+                let mut add = |l: usize, tag: &str, xyz: &[&str]| -> Result<(), IoError> {
+                    let tag: u64 = parse_int(tag, "node tag", file, l)?;
+                    let p = [
+                        parse_coord(xyz[0], "x", file, l)?,
+                        parse_coord(xyz[1], "y", file, l)?,
+                        parse_coord(xyz[2], "z", file, l)?,
+                    ];
+                    if node_index.insert(tag, points.len() as u32).is_some() {
+                        return Err(err(l, format!("node tag {tag} is defined twice")));
+                    }
+                    points.push(p);
+                    Ok(())
+                };
+                if v == Version::V2 {
+                    let (l, toks) = ls.fields("the number of nodes", 1, false)?;
+                    let n = parse_count(toks[0], "number of nodes", file, l)?;
+                    for _ in 0..n {
+                        let (l, toks) = ls.fields("a node '<tag> <x> <y> <z>'", 4, false)?;
+                        add(l, toks[0], &toks[1..])?;
+                    }
+                } else {
+                    let (l, toks) = ls.fields("the node counts", 4, false)?;
+                    let blocks = parse_count(toks[0], "number of node blocks", file, l)?;
+                    for _ in 0..blocks {
+                        let (l, toks) = ls.fields(
+                            "a node block '<dim> <entity> <parametric> <#nodes>'",
+                            4,
+                            false,
+                        )?;
+                        let dim = parse_count(toks[0], "entity dimension", file, l)?;
+                        let parametric = parse_count(toks[2], "parametric flag", file, l)?;
+                        let n = parse_count(toks[3], "number of nodes", file, l)?;
+                        if dim > 3 || parametric > 1 {
+                            return Err(err(
+                                l,
+                                format!(
+                                    "entity dimension {dim} or parametric flag {parametric} \
+                                     out of range (0-3, 0-1)"
+                                ),
+                            ));
+                        }
+                        let mut tags = Vec::with_capacity(n.min(text.len() / 2));
+                        for _ in 0..n {
+                            let (l, toks) = ls.fields("a node tag", 1, false)?;
+                            tags.push((l, toks[0]));
+                        }
+                        let width = 3 + if parametric == 1 { dim } else { 0 };
+                        for (_, tag) in tags {
+                            let (l, toks) = ls.fields("node coordinates", width, false)?;
+                            add(l, tag, &toks)?;
+                        }
+                    }
+                }
+                ls.expect_end("Nodes")?;
+            }
+            "$Elements" => {
+                let v = need_version(version)?;
+                let lookup = |l: usize, toks: &[&str]| -> Result<Vec<u32>, IoError> {
+                    toks.iter()
+                        .map(|t| {
+                            let tag: u64 = parse_int(t, "node tag", file, l)?;
+                            node_index.get(&tag).copied().ok_or_else(|| {
+                                err(l, format!("node {tag} is not defined in $Nodes"))
+                            })
+                        })
+                        .collect()
+                };
+                let mut keep = |ty: i64, p: Pending| match ty {
+                    4 => tets.push(p),
+                    _ => facets.push(p),
+                };
+                let corners = |ty: i64| match ty {
+                    2 => Some(3),
+                    3 | 4 => Some(4),
+                    _ => None,
+                };
+                if v == Version::V2 {
+                    let (l, toks) = ls.fields("the number of elements", 1, false)?;
+                    let n = parse_count(toks[0], "number of elements", file, l)?;
+                    for _ in 0..n {
+                        let (l, toks) =
+                            ls.fields("an element '<tag> <type> <#tags> <tags> <nodes>'", 3, true)?;
+                        let ty: i64 = parse_int(toks[1], "element type", file, l)?;
+                        let ntags = parse_count(toks[2], "number of tags", file, l)?;
+                        let Some(nn) = corners(ty) else { continue };
+                        if ntags > toks.len() || toks.len() != 3 + ntags + nn {
+                            return Err(err(
+                                l,
+                                format!(
+                                    "expected {} fields for an element of type {ty} with \
+                                     {ntags} tags, found {}",
+                                    3usize.saturating_add(ntags).saturating_add(nn),
+                                    toks.len()
+                                ),
+                            ));
+                        }
+                        let tag = match ntags {
+                            0 => 0,
+                            _ => parse_int(toks[3], "physical tag", file, l)?,
+                        };
+                        let nodes = lookup(l, &toks[3 + ntags..])?;
+                        keep(
+                            ty,
+                            Pending {
+                                line: l,
+                                nodes,
+                                tag,
+                            },
+                        );
+                    }
+                } else {
+                    let (l, toks) = ls.fields("the element counts", 4, false)?;
+                    let blocks = parse_count(toks[0], "number of element blocks", file, l)?;
+                    for _ in 0..blocks {
+                        let (l, toks) = ls.fields(
+                            "an element block '<dim> <entity> <type> <#elements>'",
+                            4,
+                            false,
+                        )?;
+                        let entity: i32 = parse_int(toks[1], "entity tag", file, l)?;
+                        let ty: i64 = parse_int(toks[2], "element type", file, l)?;
+                        let n = parse_count(toks[3], "number of elements", file, l)?;
+                        let nn = corners(ty);
+                        for _ in 0..n {
+                            let (l, toks) = ls.fields("an element", 1, true)?;
+                            let Some(nn) = nn else { continue };
+                            if toks.len() != 1 + nn {
+                                return Err(err(
+                                    l,
+                                    format!(
+                                        "expected {} fields for an element of type {ty}, found {}",
+                                        1 + nn,
+                                        toks.len()
+                                    ),
+                                ));
+                            }
+                            let nodes = lookup(l, &toks[1..])?;
+                            keep(
+                                ty,
+                                Pending {
+                                    line: l,
+                                    nodes,
+                                    tag: entity,
+                                },
+                            );
+                        }
+                    }
+                }
+                ls.expect_end("Elements")?;
+            }
+            s if s.starts_with("$NOD") || s.starts_with("$ELM") => {
+                return Err(err(
+                    line,
+                    "gmsh format 1 is not supported: save the mesh in format 4.1 or 2.2".into(),
+                ));
+            }
+            s if s.starts_with('$') && !s.starts_with("$End") => {
+                let end = format!("$End{}", &s[1..]);
+                loop {
+                    let (_, l) = ls.next(&format!("'{end}'"))?;
+                    if l == end {
+                        break;
+                    }
+                }
+            }
+            other => {
+                return Err(err(
+                    line,
+                    format!(
+                        "expected a section such as $MeshFormat, $Nodes or $Elements, found '{}'",
+                        shorten(other)
+                    ),
+                ))
+            }
+        }
+    }
+    let Some(version) = version else {
+        return Err(err(
+            ls.last,
+            "no $MeshFormat section: not a gmsh .msh file".into(),
+        ));
+    };
+    let marker = |dim: i32, tag: i32| match version {
+        Version::V2 => tag,
+        Version::V41 => entity_physical.get(&(dim, tag)).copied().unwrap_or(0),
+    };
+    marker_names.sort();
+    Ok(SurfaceFile {
+        points,
+        facets: facets
+            .into_iter()
+            .map(|p| SurfaceFacet {
+                marker: marker(2, p.tag),
+                polygons: vec![p.nodes],
+                holes: Vec::new(),
+                line: p.line,
+            })
+            .collect(),
+        tetrahedron_regions: tets.iter().map(|p| marker(3, p.tag)).collect(),
+        tetrahedra: tets
+            .iter()
+            .map(|p| [p.nodes[0], p.nodes[1], p.nodes[2], p.nodes[3]])
+            .collect(),
+        marker_names,
+        first_index: 1,
+        ..SurfaceFile::default()
+    })
+}
+
+/// Gives each distinct key (a marker, a region) a positive physical tag: its own value when
+/// that is a positive integer (`own`), else the next tag after the largest such value.
+/// `None` if the free tags run out (values up to `i32::MAX` already taken).
+fn physical_tags(own: &[Option<i32>]) -> Option<Vec<i32>> {
+    let mut next = own.iter().flatten().copied().max().unwrap_or(0);
+    own.iter()
+        .map(|o| match o {
+            Some(t) => Some(*t),
+            None => {
+                next = next.checked_add(1)?;
+                Some(next)
+            }
+        })
+        .collect()
+}
+
+/// Bounding box of the points of some elements, as gmsh's `$Entities` wants it.
+fn bbox(coords: &[[f64; 3]], nodes: impl Iterator<Item = u32>) -> [f64; 6] {
+    let mut b = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for v in nodes {
+        let p = coords[v as usize];
+        for d in 0..3 {
+            b[d] = b[d].min(p[d]);
+            b[3 + d] = b[3 + d].max(p[d]);
+        }
+    }
+    if b[0] > b[3] {
+        [0.0; 6]
+    } else {
+        b
+    }
+}
+
+/// Writes a tetrahedral mesh as a gmsh 4.1 ASCII `.msh` file, with physical groups for face
+/// markers and regions (see the module documentation for the numbering). Atomic.
+pub fn write_msh(path: &Path, mesh: &TetMeshOut<'_>) -> Result<(), IoError> {
+    mesh.check(path)?;
+    // Surface entities: one per distinct marker.
+    let markers = mesh.distinct_markers();
+    let marker_tags = physical_tags(
+        &markers
+            .iter()
+            .map(|&m| (m > 0).then_some(m))
+            .collect::<Vec<_>>(),
+    );
+    // Volume entities: one per distinct region (values compared with -0 == 0).
+    let mut regions: Vec<f64> = (0..mesh.tets.len()).map(|k| mesh.region(k) + 0.0).collect();
+    regions.sort_by(f64::total_cmp);
+    regions.dedup();
+    let region_tags = physical_tags(
+        &regions
+            .iter()
+            .map(|&r| {
+                (r.fract() == 0.0 && r >= 1.0 && r <= f64::from(i32::MAX)).then_some(r as i32)
+            })
+            .collect::<Vec<_>>(),
+    );
+    let (Some(marker_tags), Some(region_tags)) = (marker_tags, region_tags) else {
+        return Err(IoError::invalid(
+            path,
+            "no free physical tag is left for the markers <= 0 or non-integer regions (tags \
+             up to 2147483647 are taken)",
+        ));
+    };
+    let groups = Groups {
+        markers,
+        marker_tags,
+        regions,
+        region_tags,
+    };
+    write_atomic(path, |w| {
+        msh_body(w, mesh, &groups).map_err(|e| IoError::io(path, e))
+    })
+}
+
+/// The entities and physical groups of a mesh: distinct face markers and regions, sorted,
+/// with their physical tags.
+struct Groups {
+    markers: Vec<i32>,
+    marker_tags: Vec<i32>,
+    regions: Vec<f64>,
+    region_tags: Vec<i32>,
+}
+
+fn msh_body(w: &mut dyn Write, mesh: &TetMeshOut<'_>, groups: &Groups) -> std::io::Result<()> {
+    let coords = mesh.coords;
+    let Groups {
+        markers,
+        marker_tags,
+        regions,
+        region_tags,
+    } = groups;
+    // Element indices per entity, in input order.
+    let mut faces_of = vec![Vec::new(); markers.len()];
+    for (k, m) in mesh.face_markers.iter().enumerate() {
+        faces_of[markers.binary_search(m).expect("a marker of the list")].push(k);
+    }
+    let mut tets_of = vec![Vec::new(); regions.len()];
+    for k in 0..mesh.tets.len() {
+        let r = mesh.region(k) + 0.0;
+        tets_of[regions
+            .binary_search_by(|x| x.total_cmp(&r))
+            .expect("a region of the list")]
+        .push(k);
+    }
+
+    writeln!(w, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
+    writeln!(w, "$PhysicalNames\n{}", markers.len() + regions.len())?;
+    for (&m, t) in markers.iter().zip(marker_tags) {
+        writeln!(w, "2 {t} \"{}\"", mesh.marker_name(m))?;
+    }
+    for (&r, t) in regions.iter().zip(region_tags) {
+        writeln!(w, "3 {t} \"region_{}\"", format_f64(r))?;
+    }
+    writeln!(w, "$EndPhysicalNames")?;
+
+    // Without tetrahedra, one volume entity without physical group still holds the nodes.
+    let n_volumes = regions.len().max(1);
+    writeln!(w, "$Entities\n0 0 {} {n_volumes}", markers.len())?;
+    let entity =
+        |w: &mut dyn Write, tag: usize, b: [f64; 6], phys: Option<i32>| -> std::io::Result<()> {
+            write!(w, "{tag}")?;
+            for x in b {
+                w.write_all(b" ")?;
+                write_f64(w, x)?;
+            }
+            match phys {
+                Some(p) => writeln!(w, " 1 {p} 0"),
+                None => writeln!(w, " 0 0"),
+            }
+        };
+    for (s, faces) in faces_of.iter().enumerate() {
+        let b = bbox(coords, faces.iter().flat_map(|&k| mesh.faces[k]));
+        entity(w, s + 1, b, Some(marker_tags[s]))?;
+    }
+    if regions.is_empty() {
+        entity(w, 1, bbox(coords, 0..coords.len() as u32), None)?;
+    }
+    for (v, tets) in tets_of.iter().enumerate() {
+        let b = bbox(coords, tets.iter().flat_map(|&k| mesh.tets[k]));
+        entity(w, v + 1, b, Some(region_tags[v]))?;
+    }
+    writeln!(w, "$EndEntities")?;
+
+    let np = coords.len();
+    writeln!(w, "$Nodes")?;
+    if np == 0 {
+        writeln!(w, "0 0 0 0")?;
+    } else {
+        writeln!(w, "1 {np} 1 {np}\n3 1 0 {np}")?;
+        for i in 1..=np {
+            writeln!(w, "{i}")?;
+        }
+        for p in coords {
+            write_f64(w, p[0])?;
+            for &c in &p[1..] {
+                w.write_all(b" ")?;
+                write_f64(w, c)?;
+            }
+            w.write_all(b"\n")?;
+        }
+    }
+    writeln!(w, "$EndNodes")?;
+
+    let n_elements = mesh.faces.len() + mesh.tets.len();
+    let n_blocks = markers.len() + regions.len();
+    writeln!(
+        w,
+        "$Elements\n{n_blocks} {n_elements} {} {n_elements}",
+        u8::from(n_elements > 0)
+    )?;
+    let mut tag = 0u64;
+    for (s, faces) in faces_of.iter().enumerate() {
+        writeln!(w, "2 {} 2 {}", s + 1, faces.len())?;
+        for &k in faces {
+            tag += 1;
+            let t = mesh.faces[k];
+            writeln!(
+                w,
+                "{tag} {} {} {}",
+                u64::from(t[0]) + 1,
+                u64::from(t[1]) + 1,
+                u64::from(t[2]) + 1
+            )?;
+        }
+    }
+    for (v, tets) in tets_of.iter().enumerate() {
+        writeln!(w, "3 {} 4 {}", v + 1, tets.len())?;
+        for &k in tets {
+            tag += 1;
+            let t = mesh.tets[k];
+            writeln!(
+                w,
+                "{tag} {} {} {} {}",
+                u64::from(t[0]) + 1,
+                u64::from(t[1]) + 1,
+                u64::from(t[2]) + 1,
+                u64::from(t[3]) + 1
+            )?;
+        }
+    }
+    writeln!(w, "$EndElements")
+}
