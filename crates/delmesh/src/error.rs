@@ -92,6 +92,14 @@ pub enum Error {
     /// Smoothing options are invalid or its input is inconsistent.
     #[error(transparent)]
     Smoothing(#[from] SmoothError),
+    /// An input file's contents cannot be meshed as given (named with file and line).
+    #[error("{file}: {message}", file = .file.display())]
+    Input {
+        /// The input file.
+        file: PathBuf,
+        /// What is wrong, with the line.
+        message: String,
+    },
     /// A broken internal invariant (a bug in delmesh).
     #[error("internal error (a bug in delmesh): {0}")]
     Internal(String),
@@ -139,7 +147,8 @@ impl Error {
             Error::Io(e) => Some(e.file()),
             Error::Triangulation { file, .. }
             | Error::UnsupportedFormat { file, .. }
-            | Error::Dimension { file, .. } => Some(file),
+            | Error::Dimension { file, .. }
+            | Error::Input { file, .. } => Some(file),
             Error::OverwritesInput { output, .. } => Some(output),
             Error::Spacing { file, .. } | Error::MissingField { file, .. } => Some(file),
             Error::UnknownDemo { .. }

@@ -16,9 +16,11 @@ use delmesh::delaunay::{
     check_not_input, check_output_dir, triangulate_file, DelaunayRun, OutputFormat,
 };
 use delmesh::demos;
+use delmesh::io::AnyPoly;
 use delmesh::mesh2d::{self, MeshOptions2, Spacing};
-use delmesh::point_gen::{Adaptation, PointGeneration};
-use delmesh::recovery::RecoveryMethod;
+use delmesh::mesh3d::{self, MeshOptions3};
+use delmesh::point_gen::{Adaptation, PointGeneration, PointGeneration3};
+use delmesh::recovery::{RecoveryMethod, RecoveryMethod3};
 use delmesh::smoothing::Smoother;
 
 /// How many duplicate pairs the summary lists.
@@ -36,8 +38,9 @@ struct Cli {
 enum Command {
     /// Delaunay triangulation (2D) or tetrahedralisation (3D) of a point file.
     Delaunay(DelaunayArgs),
-    /// Mesh a 2D domain (Triangle .poly): boundary recovery, exterior deletion, automatic
-    /// points, smoothing (the paper's whole method).
+    /// Mesh a 2D domain (Triangle .poly) or the volume inside a 3D surface (.smesh, 3D .poly,
+    /// .off, .stl, .obj, .mesh, .msh): boundary recovery, exterior deletion, automatic points,
+    /// smoothing (the paper's whole method).
     Mesh(MeshArgs),
     /// Reproduce a figure of the paper; without NAME, list the demos.
     Demo(DemoArgs),
@@ -56,11 +59,13 @@ enum RecoveryArg {
 
 #[derive(Args, Debug)]
 struct MeshArgs {
-    /// The domain: a Triangle .poly file (points, segments with markers, holes, regions).
+    /// The domain: a Triangle .poly file (points, segments with markers, holes, regions), or a
+    /// closed 3D surface triangulation (.smesh, 3D .poly, .off, .stl, .obj, .mesh, .msh).
     #[arg(value_name = "INPUT")]
     input: PathBuf,
-    /// Output file(s), by extension: .vtu (ParaView), .ele (Triangle .node/.ele/.edge with
-    /// markers), .svg (a picture). Repeat for several.
+    /// Output file(s), by extension. 2D: .vtu (ParaView), .ele (Triangle .node/.ele/.edge with
+    /// markers), .svg (a picture). 3D: .vtu (+ X.boundary.vtu), .ele (TetGen .node/.ele/.face),
+    /// .msh (gmsh 4.1), .mesh (Medit), .su2. Repeat for several.
     #[arg(short, long, value_name = "OUT", required = true)]
     output: Vec<PathBuf>,
     /// Boundary recovery method.
@@ -105,9 +110,14 @@ struct MeshArgs {
     /// No smoothing.
     #[arg(long)]
     no_smoothing: bool,
-    /// Keep the smoothed connectivity (no Delaunay edge flips after smoothing).
+    /// Keep the smoothed connectivity (no Delaunay edge flips after smoothing; in 3D, no final
+    /// Delaunay restoration).
     #[arg(long)]
     no_flips: bool,
+    /// 3D: the most points surface recovery may add before it stops with an error naming the
+    /// facets that resisted.
+    #[arg(long, value_name = "N")]
+    max_steiner: Option<usize>,
     /// Write the run's report (passes, quality, time per stage) as JSON.
     #[arg(long, value_name = "FILE.json")]
     report: Option<PathBuf>,
@@ -295,6 +305,26 @@ fn demo(args: &DemoArgs) -> Result<()> {
 
 fn mesh(args: &MeshArgs) -> Result<()> {
     for out in &args.output {
+        check_output_dir(out)?;
+    }
+    check_not_input(&args.input, &args.output)?;
+    let is_poly = args
+        .input
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("poly"));
+    let plc = if mesh3d::is_surface_input(&args.input) {
+        return mesh3(args, mesh3d::read_plc3(&args.input)?);
+    } else if is_poly {
+        match delmesh::io::read_poly_any(&args.input)? {
+            AnyPoly::TetGen(surface) => {
+                return mesh3(args, mesh3d::plc3_from_surface(&surface, &args.input)?)
+            }
+            AnyPoly::Triangle(poly) => mesh2d::plc_from_poly(&poly),
+        }
+    } else {
+        mesh2d::read_plc(&args.input)?
+    };
+    for out in &args.output {
         if !matches!(
             out.extension().and_then(|e| e.to_str()),
             Some("vtu" | "ele" | "svg")
@@ -305,10 +335,7 @@ fn mesh(args: &MeshArgs) -> Result<()> {
                 mesh2d::MESH_OUTPUTS
             );
         }
-        check_output_dir(out)?;
     }
-    check_not_input(&args.input, &args.output)?;
-    let plc = mesh2d::read_plc(&args.input)?;
     let mut options = MeshOptions2 {
         recovery: match args.recovery {
             RecoveryArg::Stitch => RecoveryMethod::Stitch,
@@ -364,6 +391,97 @@ fn mesh(args: &MeshArgs) -> Result<()> {
             .cdt
             .validate()
             .map_err(|e| anyhow::anyhow!("{}: validation failed: {e}", args.input.display()))?;
+        eprintln!("validation: ok");
+    }
+    let mut written = Vec::new();
+    for out in &args.output {
+        written.extend(run.write(out)?);
+    }
+    if let Some(report) = &args.report {
+        delmesh::io::write_atomic(report, |w| {
+            w.write_all(run.report_json().as_bytes())
+                .map_err(|e| delmesh::io::IoError::Io {
+                    file: report.clone(),
+                    source: e,
+                })
+        })?;
+        written.push(report.clone());
+    }
+    if !args.quiet {
+        print_written(&written);
+    }
+    Ok(())
+}
+
+/// `delmesh mesh` on a 3D surface: recovery (Table 2), field points, Delaunay restoration.
+fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
+    for out in &args.output {
+        let ext = out
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
+        if !matches!(
+            ext.as_str(),
+            "vtu" | "ele" | "node" | "face" | "msh" | "mesh" | "su2"
+        ) {
+            anyhow::bail!(
+                "{}: unsupported output format for a 3D mesh (supported: {})",
+                out.display(),
+                mesh3d::MESH3_OUTPUTS
+            );
+        }
+    }
+    for (flag, given) in [
+        ("--background", args.background.is_some()),
+        ("--adapt", args.adapt.is_some()),
+    ] {
+        if given {
+            anyhow::bail!("{flag} is not available for 3D meshes yet");
+        }
+    }
+    let mut options = MeshOptions3 {
+        recovery: match args.recovery {
+            RecoveryArg::Stitch => RecoveryMethod3::Conforming,
+            RecoveryArg::APriori | RecoveryArg::Constrained => anyhow::bail!(
+                "--recovery {:?} is not available for 3D meshes yet (use stitch)",
+                args.recovery
+            ),
+        },
+        max_steiner_points: args.max_steiner,
+        delaunay: !args.no_flips,
+        ..MeshOptions3::default()
+    };
+    if let Some(path) = &args.points {
+        let pts = delmesh::io::read_points(path)?;
+        if pts.dim != 3 {
+            anyhow::bail!(
+                "{}: the field points of a 3D mesh must be 3D",
+                path.display()
+            );
+        }
+        options.extra_points = (0..pts.len()).map(|i| pts.point3(i)).collect();
+    }
+    options.generation = (!args.no_points).then(|| PointGeneration3 {
+        alpha: args.alpha,
+        max_points: args.max_points.unwrap_or(usize::MAX),
+        ..PointGeneration3::default()
+    });
+    let run = mesh3d::mesh_plc3(&plc, &options)
+        .map_err(|e| anyhow::anyhow!("{}: {}", args.input.display(), e))?;
+    let total: f64 = run.timings.iter().map(|t| t.1).sum();
+    if args.quiet {
+        eprintln!("mesh time: {total:.6} s");
+    } else {
+        eprint!("input: {}\n{}", args.input.display(), run.summary());
+    }
+    if args.validate {
+        let check = if run.restoration.is_some() || options.generation.is_none() {
+            run.mesh.ct.validate()
+        } else {
+            run.mesh.ct.validate_structure()
+        };
+        check.map_err(|e| anyhow::anyhow!("{}: validation failed: {e}", args.input.display()))?;
         eprintln!("validation: ok");
     }
     let mut written = Vec::new();

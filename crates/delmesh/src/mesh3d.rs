@@ -15,11 +15,14 @@
 //! # Ok::<(), delmesh::Error>(())
 //! ```
 
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use delmesh_boundary_recovery::{
-    BoundaryRecovery3, Mesh3, MeshArrays3, Plc3, RecoveryHistory3, RecoveryMethod3, SurfaceTriangle,
+    BoundaryRecovery3, Mesh3, MeshArrays3, Plc3, RecoveryHistory3, RecoveryMethod3, RecoveryStep,
+    RegionSeed3, SurfaceTriangle,
 };
+use delmesh_io::{SurfaceFile, TetMeshOut};
 use delmesh_point_gen::{GenerationReport3, PointGeneration3};
 
 use crate::Error;
@@ -185,5 +188,195 @@ impl MeshRun3 {
         let total: f64 = self.timings.iter().map(|t| t.1).sum();
         s.push_str(&format!("  {:<26} {total:.6} s\n", "total"));
         s
+    }
+}
+
+/// The input extensions [`read_plc3`] reads (a `.poly` is 3D when its nodes are).
+pub const SURFACE_INPUTS: &str = ".smesh, .poly (3D), .off, .stl, .obj, .mesh, .msh";
+
+/// The output formats of [`MeshRun3::write`], by extension.
+pub const MESH3_OUTPUTS: &str = ".vtu, .ele (.node/.ele/.face), .msh, .mesh, .su2";
+
+/// Whether `path` names a 3D surface input by its extension (a `.poly` file is decided by its
+/// contents, see [`read_plc3`]).
+pub fn is_surface_input(path: &Path) -> bool {
+    matches!(
+        extension(path).as_str(),
+        "smesh" | "off" | "stl" | "obj" | "mesh" | "msh"
+    )
+}
+
+fn extension(path: &Path) -> String {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase()
+}
+
+/// Reads a surface file (by extension, see [`SURFACE_INPUTS`]) as a [`Plc3`].
+///
+/// # Errors
+/// The file cannot be read or is malformed (file and line in the message), or it has a
+/// polygonal facet that cannot be triangulated (named with its line).
+pub fn read_plc3(path: &Path) -> Result<Plc3, Error> {
+    let surface = delmesh_io::read_surface(path)?;
+    plc3_from_surface(&surface, path)
+}
+
+/// The [`Plc3`] of a parsed surface file: triangles keep their facet's marker and number;
+/// polygonal facets (with holes) are triangulated in their plane.
+///
+/// # Errors
+/// A polygonal facet that is not planar or cannot be triangulated (named with its line).
+pub fn plc3_from_surface(surface: &SurfaceFile, path: &Path) -> Result<Plc3, Error> {
+    let mut triangles = Vec::new();
+    for (k, facet) in surface.facets.iter().enumerate() {
+        for polygon in &facet.polygons {
+            match polygon.len() {
+                0..=2 => {} // TetGen allows points and segments in facets; they bound nothing.
+                3 if facet.polygons.len() == 1 => triangles.push(SurfaceTriangle {
+                    v: [polygon[0], polygon[1], polygon[2]],
+                    marker: facet.marker,
+                    facet: k as u32,
+                }),
+                n => {
+                    return Err(Error::Input {
+                        file: path.to_path_buf(),
+                        message: format!(
+                            "line {}: facet {} is a polygon of {n} corners; only triangles are \
+                             supported yet",
+                            facet.line,
+                            k + surface.first_index as usize
+                        ),
+                    })
+                }
+            }
+        }
+    }
+    Ok(Plc3 {
+        points: surface.points.clone(),
+        point_markers: surface.point_markers.clone().unwrap_or_default(),
+        triangles,
+        holes: surface.holes.clone(),
+        regions: surface
+            .regions
+            .iter()
+            .map(|r| RegionSeed3 {
+                point: r.point,
+                attribute: r.attribute,
+                max_volume: r.max_volume,
+            })
+            .collect(),
+        first_index: surface.first_index,
+    })
+}
+
+impl MeshRun3 {
+    /// Writes the mesh to `out`, the format chosen by its extension (see [`MESH3_OUTPUTS`]):
+    /// `.vtu` (tetrahedra with cell data `region`, and `X.boundary.vtu` with the boundary
+    /// triangles and their `marker`), `.ele` (TetGen's `X.node`, `X.ele`, `X.face` with markers
+    /// and region attributes, numbered from 1), `.msh` (gmsh 4.1 with physical groups),
+    /// `.mesh` (Medit), `.su2`. Returns the files written.
+    ///
+    /// # Errors
+    /// An unsupported extension, or a file that cannot be written.
+    pub fn write(&self, out: &Path) -> Result<Vec<PathBuf>, Error> {
+        let a = &self.arrays;
+        let mesh = TetMeshOut {
+            coords: &a.coords,
+            tets: &a.tets,
+            regions: Some(&a.regions),
+            faces: &a.faces,
+            face_markers: &a.face_markers,
+            point_markers: Some(&a.point_markers),
+            marker_names: &[],
+        };
+        match extension(out).as_str() {
+            "vtu" | "ele" | "node" | "face" | "msh" | "mesh" | "su2" => {
+                Ok(delmesh_io::write_tet_mesh(out, &mesh)?)
+            }
+            ext => Err(Error::UnsupportedFormat {
+                file: out.to_path_buf(),
+                ext: if ext.is_empty() {
+                    "(none)".into()
+                } else {
+                    format!(".{ext}")
+                },
+                supported: MESH3_OUTPUTS,
+            }),
+        }
+    }
+
+    /// The run's report as JSON (`--report report.json`): the recovery history (Table 2),
+    /// the generation passes, sizes and seconds per stage.
+    pub fn report_json(&self) -> String {
+        let list = |v: Vec<String>| format!("[{}]", v.join(", "));
+        let history = |h: &RecoveryHistory3| {
+            let steps = list(
+                h.steps
+                    .iter()
+                    .map(|s| match *s {
+                        RecoveryStep::Edges {
+                            points,
+                            tetrahedra,
+                            surface_edges,
+                            missing_edges,
+                        } => format!(
+                            "{{\"edges\": {{\"points\": {points}, \"tetrahedra\": {tetrahedra}, \"surface_edges\": {surface_edges}, \"missing_edges\": {missing_edges}}}}}"
+                        ),
+                        RecoveryStep::Faces {
+                            surface_faces,
+                            missing_faces,
+                        } => format!(
+                            "{{\"faces\": {{\"surface_faces\": {surface_faces}, \"missing_faces\": {missing_faces}}}}}"
+                        ),
+                    })
+                    .collect(),
+            );
+            format!(
+                "{{\"surface_points\": {}, \"field_points\": {}, \"surface_faces\": {}, \"surface_edges\": {}, \"initial_tetrahedra\": {}, \"steps\": {steps}, \"edge_points\": {}, \"face_points\": {}, \"final_surface_edges\": {}, \"final_surface_faces\": {}, \"tetrahedra_outside\": {}, \"tetrahedra_inside\": {}}}",
+                h.surface_points,
+                h.field_points,
+                h.surface_faces,
+                h.surface_edges,
+                h.initial_tetrahedra,
+                h.edge_points,
+                h.face_points,
+                h.final_surface_edges,
+                h.final_surface_faces,
+                h.tetrahedra_outside,
+                h.tetrahedra_inside
+            )
+        };
+        let generation = self.generation.as_ref().map_or("null".to_string(), |g| {
+            list(
+                g.passes
+                    .iter()
+                    .map(|p| {
+                        format!(
+                            "{{\"candidates\": {}, \"accepted\": {}, \"refused\": {}, \"elements\": {}}}",
+                            p.candidates, p.accepted, p.refused, p.elements
+                        )
+                    })
+                    .collect(),
+            )
+        });
+        let restoration = self
+            .restoration
+            .as_ref()
+            .map_or("null".to_string(), history);
+        let timings = self
+            .timings
+            .iter()
+            .map(|(n, t)| format!("\"{n}\": {t}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        format!(
+            "{{\n  \"points\": {},\n  \"tetrahedra\": {},\n  \"boundary_triangles\": {},\n  \"recovery\": {},\n  \"generation\": {generation},\n  \"restoration\": {restoration},\n  \"seconds\": {{{timings}}}\n}}\n",
+            self.arrays.coords.len(),
+            self.arrays.tets.len(),
+            self.arrays.faces.len(),
+            history(&self.recovery),
+        )
     }
 }
