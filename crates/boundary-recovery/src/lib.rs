@@ -23,6 +23,7 @@
 //! # Ok::<(), delmesh_boundary_recovery::RecoveryError>(())
 //! ```
 
+mod apriori3;
 mod check;
 mod classify;
 mod classify3;

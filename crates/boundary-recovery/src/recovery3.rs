@@ -28,6 +28,7 @@
 //! The recovered faces are then protected ([`ConstrainedTriangulation3`]) and the cells are
 //! classified by the flood fill of [`crate::classify3`].
 
+use crate::apriori3::a_priori_points;
 use crate::classify3::{classify3, OUTSIDE};
 use crate::error::RecoveryError;
 use crate::plc3::Plc3;
@@ -45,6 +46,9 @@ pub enum RecoveryMethod3 {
     /// The paper's a-posteriori edge and face checking (R6).
     #[default]
     Conforming,
+    /// A point for every boundary face first (R7), then edge and face checking for what is
+    /// left.
+    APriori,
 }
 
 /// One step of the recovery history: the rows of the paper's Table 2.
@@ -91,6 +95,10 @@ pub struct RecoveryHistory3 {
     pub edge_points: usize,
     /// Points added inside surface faces.
     pub face_points: usize,
+    /// A-priori points placed beside the surface (APriori only).
+    pub a_priori_points: usize,
+    /// Surface triangles for which no a-priori point was found (APriori only).
+    pub a_priori_rejected: usize,
     /// Sub-segments at the end (surface edges of the mesh).
     pub final_surface_edges: usize,
     /// Sub-faces at the end (boundary triangles of the mesh).
@@ -118,6 +126,10 @@ impl fmt::Display for RecoveryHistory3 {
         row(f, "No. of field points:", self.field_points)?;
         row(f, "No. of surface faces:", self.surface_faces)?;
         row(f, "No. of surface edges:", self.surface_edges)?;
+        if self.method == RecoveryMethod3::APriori {
+            row(f, "No. of a-priori points:", self.a_priori_points)?;
+            row(f, "  faces left to checking:", self.a_priori_rejected)?;
+        }
         row(f, "No. of tetrahedra obtained:", self.initial_tetrahedra)?;
         writeln!(
             f,
@@ -249,6 +261,9 @@ pub struct BoundaryRecovery3 {
     method: RecoveryMethod3,
     extra_points: Vec<[f64; 3]>,
     max_steiner: Option<usize>,
+    /// Per surface triangle, the side of the domain (+1 along the normal, −1 against, 0
+    /// unknown): where the a-priori points go.
+    sides: Vec<f64>,
 }
 
 impl Default for BoundaryRecovery3 {
@@ -307,7 +322,15 @@ impl BoundaryRecovery3 {
             method,
             extra_points: Vec::new(),
             max_steiner: None,
+            sides: Vec::new(),
         }
+    }
+
+    /// For the a-priori method: the side of the domain of each surface triangle (+1 along its
+    /// normal, −1 against it, 0 unknown: either side). Without it, either side is used.
+    pub fn with_domain_sides(mut self, sides: Vec<f64>) -> Self {
+        self.sides = sides;
+        self
     }
 
     /// Adds field points from an external source (R9); those that fall outside the domain are
@@ -343,16 +366,50 @@ impl BoundaryRecovery3 {
         }
         let mut points = plc.points.clone();
         points.extend_from_slice(&self.extra_points);
+        let mut a_priori_rejected = 0;
+        if self.method == RecoveryMethod3::APriori {
+            if let Some(t) = plc
+                .triangles
+                .iter()
+                .find(|t| t.v.iter().any(|&i| i as usize >= n_input))
+            {
+                return Err(RecoveryError::BadFacetPoint {
+                    facet: u64::from(t.facet) + u64::from(plc.first_index),
+                    point: u64::from(*t.v.iter().max().unwrap_or(&0)) + u64::from(plc.first_index),
+                    n_points: n_input,
+                });
+            }
+            let side = |k: usize| self.sides.get(k).copied().unwrap_or(0.0);
+            let (placed, rejected) =
+                a_priori_points(&plc.points, &self.extra_points, &plc.triangles, side);
+            a_priori_rejected = rejected;
+            points.extend(placed);
+        }
         let tri = Triangulation3::new(&points)?;
         let mut state = State::new(tri, plc, self.max_steiner)?;
+        // Vertices by where their point came from (duplicates merged).
+        let n_extra = self.extra_points.len();
+        let from = |lo: usize, hi: usize| {
+            (0..state.tri.num_vertices())
+                .filter(|&v| {
+                    let i = state.tri.input_index(VertexId(v as u32));
+                    (lo..hi).contains(&i) && !state.on_surface[v]
+                })
+                .count()
+        };
+        let (field_points, a_priori) = (
+            from(n_input, n_input + n_extra),
+            from(n_input + n_extra, usize::MAX),
+        );
         let mut history = RecoveryHistory3 {
             method: self.method,
             surface_points: state.on_surface.iter().filter(|&&s| s).count(),
-            field_points: state.tri.num_vertices()
-                - state.on_surface.iter().filter(|&&s| s).count(),
+            field_points,
             surface_faces: plc.triangles.len(),
             surface_edges: state.segs.len(),
             initial_tetrahedra: state.tri.num_cells(),
+            a_priori_points: a_priori,
+            a_priori_rejected,
             ..Default::default()
         };
         state.recover(&mut history)?;

@@ -339,3 +339,23 @@ proptest! {
         check(&plc, &mesh, 8.0 - vs);
     }
 }
+
+#[test]
+fn a_priori_points_beside_every_face() {
+    use delmesh_boundary_recovery::RecoveryMethod3;
+    let mut plc = Plc3::default();
+    let (p, t) = box_surface([-2.0; 3], [2.0; 3], 4, true);
+    add_surface(&mut plc, &p, &t, 1);
+    let (q, s) = icosphere([0.1, 0.05, -0.02], 0.7, 2);
+    let sphere = enclosed_volume(&q, &s);
+    add_surface(&mut plc, &q, &s, 2);
+    let mesh = BoundaryRecovery3::new(RecoveryMethod3::APriori)
+        .run(&plc)
+        .unwrap();
+    check(&plc, &mesh, 64.0 - sphere);
+    let h = &mesh.history;
+    // Two triangles of a box square share their circumcircle, so their points coincide.
+    assert!(h.a_priori_points + h.a_priori_rejected <= plc.triangles.len());
+    assert!(h.a_priori_points > plc.triangles.len() / 2, "{h}");
+    println!("{h}");
+}

@@ -443,9 +443,9 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
     let mut options = MeshOptions3 {
         recovery: match args.recovery {
             RecoveryArg::Stitch => RecoveryMethod3::Conforming,
-            RecoveryArg::APriori | RecoveryArg::Constrained => anyhow::bail!(
-                "--recovery {:?} is not available for 3D meshes yet (use stitch)",
-                args.recovery
+            RecoveryArg::APriori => RecoveryMethod3::APriori,
+            RecoveryArg::Constrained => anyhow::bail!(
+                "--recovery constrained is not available for 3D meshes (use stitch or a-priori)"
             ),
         },
         max_steiner_points: args.max_steiner,
