@@ -9,7 +9,9 @@
 mod generate;
 mod refine;
 mod spacing;
+mod spacing3;
 
 pub use generate::{GenerationPass, GenerationReport, PointGenError, PointGeneration};
 pub use refine::QualityRefinement;
 pub use spacing::*;
+pub use spacing3::*;
