@@ -2,8 +2,9 @@
 //! duplicate points, no degenerate triangles (exact predicates) and no self-intersections
 //! (exact predicates), its closed surfaces have outward normals (positive divergence-theorem
 //! volume) and enclose the analytic volume up to the discretisation error, planar box sides
-//! are strictly Delaunay in their plane, the double ellipsoid's vertices lie on its analytic
-//! surface, and the counts and shapes are snapshotted.
+//! are strictly Delaunay in their plane (and so appear in the Delaunay tetrahedralization of
+//! the surface points), the double ellipsoid's vertices lie on its analytic surface, and the
+//! counts, shapes and missing faces are snapshotted.
 
 use std::collections::HashMap;
 use std::f64::consts::PI;
@@ -13,6 +14,7 @@ use delmesh::geometry3::{
     DoubleEllipsoid, Surface3, DOUBLE_ELLIPSOID_N,
 };
 use delmesh::recovery::Plc3;
+use delmesh::Triangulation3;
 use delmesh_predicates::{incircle, orient2d, orient3d, Sign};
 
 type P = [f64; 3];
@@ -289,6 +291,42 @@ fn check(name: &str, plc: &Plc3, volumes: &[f64], tolerance: f64) -> String {
         );
         boxes.push(bbox(points.iter().map(|&v| plc.points[v as usize])));
     }
+    // Against the Delaunay tetrahedralization of the surface points: the far field's
+    // triangles are all there (its sides are strictly Delaunay, on the hull); the bodies'
+    // missing triangles and edges are counted (what boundary recovery would have to do).
+    let tri = Triangulation3::new(&plc.points).unwrap();
+    let v = |i: u32| tri.vertex_of_input(i as usize);
+    let missing: Vec<usize> = comps
+        .iter()
+        .map(|tris| {
+            tris.iter()
+                .filter(|&&t| {
+                    let [a, b, c] = plc.triangles[t].v;
+                    !tri.has_triangle(v(a), v(b), v(c))
+                })
+                .count()
+        })
+        .collect();
+    assert_eq!(missing[0], 0, "{name}: far-field triangles missing");
+    let mut edges: Vec<(u32, u32)> = plc
+        .triangles
+        .iter()
+        .flat_map(|t| {
+            (0..3).map(move |k| (t.v[k].min(t.v[(k + 1) % 3]), t.v[k].max(t.v[(k + 1) % 3])))
+        })
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
+    let missing_edges = edges
+        .iter()
+        .filter(|&&(a, b)| !tri.has_edge(v(a), v(b)))
+        .count();
+    line += &format!(
+        "\n  Delaunay tetrahedralization of the surface points: {} cells; missing triangles per \
+         surface {missing:?}, missing edges {missing_edges} of {}",
+        tri.num_cells(),
+        edges.len()
+    );
     // The first surface (the far field) contains the others, which are disjoint.
     for (i, b) in boxes.iter().enumerate().skip(1) {
         assert!(
