@@ -34,6 +34,7 @@ pub mod delaunay;
 pub mod demos;
 mod error;
 pub mod geometry;
+pub mod geometry3;
 pub mod mesh2d;
 pub mod mesh3d;
 

@@ -10,8 +10,10 @@ mod generate;
 mod generate3;
 mod refine;
 mod spacing;
+mod spacing3;
 
 pub use generate::{GenerationPass, GenerationReport, PointGenError, PointGeneration};
 pub use generate3::{GenerationPass3, GenerationReport3, PointGeneration3};
 pub use refine::QualityRefinement;
 pub use spacing::*;
+pub use spacing3::*;
