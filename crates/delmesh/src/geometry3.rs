@@ -885,3 +885,49 @@ pub fn two_bodies(n: usize) -> Plc3 {
     ellipsoid([1.1, 0.0, 0.0], [0.7, 0.35, 0.35], h, 3).append_to(&mut plc);
     plc
 }
+
+/// Field points for the Table 2 demo (R9, points from an external source): seven offset
+/// layers of the double ellipsoid's surface points of [`double_ellipsoid`]`(n)`, each point
+/// moved along its vertex normal (area-weighted, outward) by `0.8·h·(1.5^(k+1) − 1)/0.5`,
+/// `k = 0..7` for the surface spacing `h`: layers about `0.8·h` apart next to the body and
+/// growing by 1.5 away from it, as the nodes of an O-mesh around it would be. About 23,000
+/// points for the default `n`, inside the far field; any that a concave crease folds into the
+/// body are removed with it (R9).
+pub fn double_ellipsoid_shells(n: usize) -> Vec<[f64; 3]> {
+    let body = DoubleEllipsoid::HERMES;
+    let h = body.girth() / n.max(8) as f64;
+    let surface = body.surface(h, [2, 3]);
+    let mut normal = vec![[0.0f64; 3]; surface.points.len()];
+    for t in &surface.triangles {
+        let p = t.v.map(|i| surface.points[i as usize]);
+        let u = [p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]];
+        let v = [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]];
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        for &i in &t.v {
+            for k in 0..3 {
+                normal[i as usize][k] += n[k];
+            }
+        }
+    }
+    for n in &mut normal {
+        let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        *n = n.map(|x| x / l);
+    }
+    let mut points = Vec::with_capacity(7 * surface.points.len());
+    let mut offset = 0.0;
+    for k in 0..7 {
+        offset += 0.8 * h * 1.5f64.powi(k);
+        points.extend(
+            surface
+                .points
+                .iter()
+                .zip(&normal)
+                .map(|(p, n)| [0, 1, 2].map(|i| p[i] + offset * n[i])),
+        );
+    }
+    points
+}
