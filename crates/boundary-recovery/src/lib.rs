@@ -30,6 +30,7 @@ mod mesh;
 mod plc;
 mod plc3;
 mod recovery;
+mod surface;
 
 pub use classify::OUTSIDE;
 pub use error::RecoveryError;
@@ -38,4 +39,8 @@ pub use plc::{Plc2, RegionSeed, Segment};
 pub use plc3::{Plc3, RegionSeed3, SurfaceTriangle};
 pub use recovery::{
     BoundaryEdge, BoundaryRecovery, Mesh2, RecoveryHistory, RecoveryMethod, RecoveryPass,
+};
+pub use surface::{
+    check_surface, CheckedSurface, EdgeName, Listed, PointLocation, PointOnTriangle, PolygonFacet,
+    SurfaceComponent, SurfaceEdge, SurfaceError, TriangleName, TrianglePair, VertexName,
 };
