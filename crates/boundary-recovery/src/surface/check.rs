@@ -10,7 +10,6 @@ use super::volume::{signed_volume, Columns, Surface, Winding};
 use super::{CheckedSurface, SurfaceComponent, SurfaceEdge};
 use crate::plc3::{Plc3, SurfaceTriangle};
 use delmesh_predicates::{Sign, COORDINATE_RANGE};
-use std::collections::HashMap;
 
 /// Union–find with path halving.
 struct UnionFind(Vec<u32>);
@@ -79,7 +78,53 @@ pub(crate) fn scaled_points(points: &[P], base: u64) -> Result<(f64, Vec<P>), Su
     Ok((scale, scaled))
 }
 
-/// Checks `plc` (see the [module docs](super)).
+/// Checks that `plc` is a set of closed, consistently oriented, non-intersecting triangle
+/// surfaces, and finds their edges, volumes and nesting.
+///
+/// What it does, in order (the first stage that finds offenders reports all of
+/// its own; see [`SurfaceError`] for the messages):
+/// 1. coordinates are finite and within the exact predicates' range (after scaling by a power
+///    of two, which is exact); corner indices exist;
+/// 2. exactly duplicate points are merged, each into its first occurrence, and reported in
+///    [`CheckedSurface::merged`] (not an error: exporters repeat points at patch seams);
+/// 3. degenerate triangles are errors: a repeated corner (after merging) or three exactly
+///    collinear corners;
+/// 4. duplicated triangles (the same three corners, either orientation) are errors. A closed
+///    surface has each triangle once; the copies may carry different markers (which boundary
+///    condition is meant?), and a copy with the opposite orientation is a zero-thickness wall,
+///    which changes the domain. Silently dropping them could hide either, and exporters that
+///    write a triangle twice are rare enough that saying so is better;
+/// 5. every edge is used by exactly two triangles (non-manifold edges and open boundaries are
+///    errors listing the edges and their facets) that traverse it in opposite directions
+///    (inconsistent orientation names the edge and both facets). The orientation of each closed
+///    surface as a whole is free;
+/// 6. the triangles around each point form a single fan: two sheets touching at a point are an
+///    error (found with a union–find over triangle corners across edges);
+/// 7. no point lies on a triangle it is not a corner of, and no two triangles intersect other
+///    than in what they share, decided exactly (`orient3d`/`orient2d`, no tolerance) for the
+///    pairs whose bounding boxes overlap (found through a uniform grid): triangles with no
+///    common corner must have no common point (six segment–triangle tests, coplanar overlaps
+///    included); triangles sharing a corner must not meet beyond it (their cones at that
+///    corner are compared); triangles sharing an edge must not fold onto each other (coplanar
+///    with their third corners on the same side of the edge);
+/// 8. each connected component (a closed surface) gets its signed volume
+///    `Σ det(a − o, b − o, c − o) / 6` (divergence theorem; `o` the middle of its bounding box;
+///    compensated summation). Its sign, the orientation, is certified by a rigorous error
+///    bound, and recomputed with exact floating-point expansions when the bound cannot tell
+///    (a surface of almost no volume).
+///
+/// **Nesting.** Once the checks pass, the components are pairwise disjoint closed surfaces, so
+/// a component lies inside another iff any one of its points does, and the components around
+/// one component form a chain. Each component's first point is tested against the others by
+/// the winding number of an exactly counted ray: along `+x` from the point moved by the
+/// infinitesimal `(0, ε, ε²)`. Whether it crosses a triangle is `orient2d` in the `(y, z)`
+/// projection, a zero resolved by the first non-zero term of the perturbation (which never
+/// vanishes for an edge that projects to a segment), and whether the crossing is ahead is
+/// `orient3d`. Rays through edges, vertices or along faces are so counted consistently (two
+/// triangles sharing an edge get the same answer for it): no direction is unlucky, there is
+/// no retry. A component's depth is the number of components around it; the domain (without
+/// hole seeds) is what lies inside an odd number of surfaces:
+/// [`CheckedSurface::domain_volume`].
 ///
 /// # Errors
 /// The first failing stage's [`SurfaceError`], listing its offenders.
@@ -105,21 +150,29 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
         });
     }
 
-    // Merge exact duplicates: each maps to its first occurrence.
-    let mut first: HashMap<[u64; 3], u32> = HashMap::with_capacity(n_input);
-    let mut vertex_of_input = Vec::with_capacity(n_input);
+    // Merge exact duplicates: each maps to its first occurrence (sorting by the coordinates'
+    // bits, -0 read as +0).
+    let key = |i: usize| plc.points[i].map(|x| (x + 0.0).to_bits());
+    let mut order: Vec<u32> = (0..n_input as u32).collect();
+    order.sort_unstable_by_key(|&i| (key(i as usize), i));
+    let mut first = vec![0u32; n_input];
+    for same in order.chunk_by(|&i, &j| key(i as usize) == key(j as usize)) {
+        for &i in same {
+            first[i as usize] = same[0];
+        }
+    }
+    let mut vertex_of_input = vec![0u32; n_input];
     let mut input_index = Vec::new();
     let mut merged = Vec::new();
-    for (i, p) in plc.points.iter().enumerate() {
-        let key = p.map(|x| (x + 0.0).to_bits());
-        let next = input_index.len() as u32;
-        let v = *first.entry(key).or_insert(next);
-        if v == next {
+    for i in 0..n_input {
+        let f = first[i] as usize;
+        if f == i {
+            vertex_of_input[i] = input_index.len() as u32;
             input_index.push(i as u32);
         } else {
-            merged.push((i as u32, input_index[v as usize]));
+            vertex_of_input[i] = vertex_of_input[f];
+            merged.push((i as u32, f as u32));
         }
-        vertex_of_input.push(v);
     }
     let points: Vec<P> = input_index
         .iter()
@@ -211,19 +264,32 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
         });
     }
 
-    // Edges: directed uses, grouped by the undirected edge.
-    let mut uses: Vec<(u64, u32, bool)> = Vec::with_capacity(3 * tv.len());
+    // Edges: the directed uses `(other end, triangle, lo → hi?)` of each undirected edge,
+    // bucketed by its lower end (a counting sort), then sorted within each bucket.
+    let nv = points.len();
+    let mut start = vec![0u32; nv + 1];
+    for t in &tv {
+        for i in 0..3 {
+            start[t[i].min(t[(i + 1) % 3]) as usize + 1] += 1;
+        }
+    }
+    for v in 0..nv {
+        start[v + 1] += start[v];
+    }
+    let mut uses = vec![(0u32, 0u32, false); 3 * tv.len()];
+    let mut fill = start.clone();
     for (k, t) in tv.iter().enumerate() {
         for i in 0..3 {
             let (u, w) = (t[i], t[(i + 1) % 3]);
-            let key = u64::from(u.min(w)) << 32 | u64::from(u.max(w));
-            uses.push((key, k as u32, u < w));
+            let lo = u.min(w) as usize;
+            uses[fill[lo] as usize] = (u.max(w), k as u32, u < w);
+            fill[lo] += 1;
         }
     }
-    uses.sort_unstable();
+    drop(fill);
     let facet_of = |t: u32| u64::from(plc.triangles[t as usize].facet) + base;
-    let edge_name = |key: u64, group: &[(u64, u32, bool)]| {
-        let (lo, hi) = ((key >> 32) as u32, key as u32);
+    let edge_name = |lo: u32, group: &[(u32, u32, bool)]| {
+        let hi = group[0].0;
         let points = if group[0].2 { [lo, hi] } else { [hi, lo] };
         EdgeName {
             points: points.map(point_name),
@@ -232,23 +298,29 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
     };
     let (mut open, mut non_manifold, mut flipped) = (Vec::new(), Vec::new(), Vec::new());
     let mut edges = Vec::with_capacity(uses.len() / 2);
-    for group in uses.chunk_by(|x, y| x.0 == y.0) {
-        let key = group[0].0;
-        match group.len() {
-            1 => open.push((group[0].1, edge_name(key, group))),
-            2 if group[0].2 == group[1].2 => flipped.push((group[0].1, edge_name(key, group))),
-            2 => {
-                let (fwd, back) = if group[0].2 {
-                    (group[0].1, group[1].1)
-                } else {
-                    (group[1].1, group[0].1)
-                };
-                edges.push(SurfaceEdge {
-                    v: [(key >> 32) as u32, key as u32],
-                    triangles: [fwd, back],
-                });
+    for lo in 0..nv {
+        let around = &mut uses[start[lo] as usize..start[lo + 1] as usize];
+        around.sort_unstable_by_key(|x| (x.0, x.1));
+        let lo = lo as u32;
+        for group in around.chunk_by(|x, y| x.0 == y.0) {
+            match group.len() {
+                1 => open.push((group[0].1, edge_name(lo, group))),
+                2 if group[0].2 == group[1].2 => {
+                    flipped.push((group[0].1, edge_name(lo, group)));
+                }
+                2 => {
+                    let (fwd, back) = if group[0].2 {
+                        (group[0].1, group[1].1)
+                    } else {
+                        (group[1].1, group[0].1)
+                    };
+                    edges.push(SurfaceEdge {
+                        v: [lo, group[0].0],
+                        triangles: [fwd, back],
+                    });
+                }
+                _ => non_manifold.push((group[0].1, edge_name(lo, group))),
             }
-            _ => non_manifold.push((group[0].1, edge_name(key, group))),
         }
     }
     let listed = |mut v: Vec<(u32, EdgeName)>| {
@@ -289,13 +361,26 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
         }
         parts.union(t1, t2);
     }
-    let mut corners: Vec<(u32, u32, u32)> = (0..3 * tv.len() as u32)
-        .map(|c| (tv[c as usize / 3][c as usize % 3], fans.find(c), c / 3))
-        .collect();
-    corners.sort_unstable();
+    // A point is pinched when its corners have more than one root.
+    let mut root_at = vec![u32::MAX; nv];
+    let mut is_pinched = vec![false; nv];
+    for c in 0..3 * tv.len() as u32 {
+        let (v, r) = (tv[c as usize / 3][c as usize % 3] as usize, fans.find(c));
+        if root_at[v] == u32::MAX {
+            root_at[v] = r;
+        } else if root_at[v] != r {
+            is_pinched[v] = true;
+        }
+    }
     let mut pinched = Vec::new();
-    for around in corners.chunk_by(|x, y| x.0 == y.0) {
-        if around.first().map(|x| x.1) != around.last().map(|x| x.1) {
+    if is_pinched.contains(&true) {
+        let mut corners: Vec<(u32, u32, u32)> = (0..3 * tv.len() as u32)
+            .map(|c| (tv[c as usize / 3][c as usize % 3], c, c / 3))
+            .filter(|x| is_pinched[x.0 as usize])
+            .map(|(v, c, t)| (v, fans.find(c), t))
+            .collect();
+        corners.sort_unstable();
+        for around in corners.chunk_by(|x, y| x.0 == y.0) {
             let fans: Vec<Vec<u64>> = around
                 .chunk_by(|x, y| x.1 == y.1)
                 .map(|fan| {

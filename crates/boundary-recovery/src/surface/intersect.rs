@@ -45,9 +45,10 @@ pub(crate) fn project(p: P, k: usize) -> [f64; 2] {
     }
 }
 
-/// An axis whose projection keeps the (non-degenerate) triangle non-degenerate: the largest
-/// normal component in floating point, checked exactly. `None` for collinear points.
-pub(crate) fn projection_axis(a: P, b: P, c: P) -> Option<usize> {
+/// The axes ordered by the size of the triangle's normal component in floating point, largest
+/// first: the projection most likely to be far from degenerate comes first.
+#[inline]
+fn axes_by_normal(a: P, b: P, c: P) -> [usize; 3] {
     let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
     let n = [
@@ -58,13 +59,19 @@ pub(crate) fn projection_axis(a: P, b: P, c: P) -> Option<usize> {
     let mut order = [0, 1, 2];
     order.sort_by(|&i, &j| n[j].total_cmp(&n[i]));
     order
+}
+
+/// An axis whose projection keeps the (non-degenerate) triangle non-degenerate: the largest
+/// normal component in floating point, checked exactly. `None` for collinear points.
+pub(crate) fn projection_axis(a: P, b: P, c: P) -> Option<usize> {
+    axes_by_normal(a, b, c)
         .into_iter()
         .find(|&k| orient2d(project(a, k), project(b, k), project(c, k)) != Sign::Zero)
 }
 
-/// Whether three points lie exactly on one line (all three axis projections degenerate).
+/// Whether three points lie exactly on one line: every axis projection is degenerate.
 pub(crate) fn collinear(a: P, b: P, c: P) -> bool {
-    (0..3).all(|k| orient2d(project(a, k), project(b, k), project(c, k)) == Sign::Zero)
+    projection_axis(a, b, c).is_none()
 }
 
 /// Given collinear `a, b, x` with `a ≠ b`: whether `x` lies on the closed segment `a b`.

@@ -7,41 +7,8 @@
 //! that is open, folded or self-intersecting, so [`check_surface`] rejects those first, with
 //! errors naming the facets and points in the user's numbering ([`SurfaceError`]).
 //!
-//! What [`check_surface`] does, in order (the first stage that finds offenders reports all of
-//! its own; see [`SurfaceError`] for the messages):
-//! 1. coordinates are finite and within the exact predicates' range (after scaling by a power
-//!    of two, which is exact); corner indices exist;
-//! 2. exactly duplicate points are merged, each into its first occurrence, and reported in
-//!    [`CheckedSurface::merged`] (not an error: exporters repeat points at patch seams);
-//! 3. degenerate triangles are errors: a repeated corner (after merging) or three exactly
-//!    collinear corners;
-//! 4. duplicated triangles (the same three corners, either orientation) are errors. A closed
-//!    surface has each triangle once; the copies may carry different markers (which boundary
-//!    condition is meant?), and a copy with the opposite orientation is a zero-thickness wall,
-//!    which changes the domain. Silently dropping them could hide either, and exporters that
-//!    write a triangle twice are rare enough that saying so is better;
-//! 5. every edge is used by exactly two triangles (non-manifold edges and open boundaries are
-//!    errors listing the edges and their facets) that traverse it in opposite directions
-//!    (inconsistent orientation names the edge and both facets). The orientation of each closed
-//!    surface as a whole is free;
-//! 6. the triangles around each point form a single fan: two sheets touching at a point are an
-//!    error (found with a union–find over triangle corners across edges);
-//! 7. no point lies on a triangle it is not a corner of, and no two triangles intersect other
-//!    than in their shared corner or edge: exact `orient3d`/`orient2d` tests (see
-//!    `intersect.rs`) on the pairs whose bounding boxes overlap, found through a uniform grid;
-//! 8. the connected components (closed surfaces) get their signed volume (divergence theorem,
-//!    compensated sum, certified sign: see `volume.rs`), hence their orientation, and their
-//!    nesting.
-//!
-//! **Nesting.** Once the checks pass, the components are pairwise disjoint closed surfaces, so
-//! a component lies inside another iff any one of its points does, and the enclosing components
-//! of one component form a chain. Each component's first point is tested against all other
-//! components with an exactly counted, symbolically perturbed ray (the winding number, see
-//! `volume.rs`), which has no degenerate case to fail on: rays through edges, vertices or along
-//! faces are resolved consistently by the perturbation, and the crossing tests are exact
-//! `orient2d`/`orient3d` signs. A component's depth is the number of components around it;
-//! the domain (without hole seeds) is what lies inside an odd number of surfaces:
-//! [`CheckedSurface::domain_volume`].
+//! [`check_surface`]'s documentation lists the stages and why each decision is exact; the
+//! predicates are in `intersect.rs` (triangle pairs) and `volume.rs` (volumes, the ray).
 //!
 //! [`Plc3::from_polygon_facets`] builds a [`Plc3`] from planar polygonal facets (TetGen
 //! `.poly`), triangulating each in its plane.
@@ -156,16 +123,18 @@ impl CheckedSurface {
     }
 
     /// Where the point lies: on the surface (which triangle), or which components enclose it;
-    /// decided exactly (see the module docs). `None` if a coordinate is not finite or, scaled
-    /// as the surface was, is too small for exact predicates.
+    /// decided exactly by the perturbed ray of [`check_surface`]'s nesting. `None` if a
+    /// coordinate is not finite or, scaled as the surface was, outside the exact predicates'
+    /// range (a non-zero magnitude below 2^-142 or above 2^201 times the surface's largest).
     pub fn locate(&self, p: [f64; 3]) -> Option<PointLocation> {
         if p.iter().any(|x| !x.is_finite()) {
             return None;
         }
         let q = p.map(|x| x * self.scale);
-        if q.iter().any(|x| {
-            !x.is_finite() || (*x != 0.0 && x.abs() < delmesh_predicates::COORDINATE_RANGE.0)
-        }) {
+        let (tiny, huge) = delmesh_predicates::COORDINATE_RANGE;
+        if q.iter()
+            .any(|x| x.abs() > huge || (*x != 0.0 && x.abs() < tiny))
+        {
             return None;
         }
         let surface = Surface {
