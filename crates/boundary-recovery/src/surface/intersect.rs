@@ -501,4 +501,176 @@ mod tests {
         assert!(!point_on_triangle(t, [1.0, 1.0 + f64::EPSILON, 0.0]));
         assert!(!point_on_triangle(t, [0.5, 0.5, 1e-300]));
     }
+
+    // ----- an independent oracle: exact linear feasibility -----
+
+    /// A rational number, `n / d` with `d > 0`, reduced.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    struct Q(i128, i128);
+
+    fn gcd(a: i128, b: i128) -> i128 {
+        if b == 0 {
+            a.abs()
+        } else {
+            gcd(b, a % b)
+        }
+    }
+
+    impl Q {
+        fn new(n: i128, d: i128) -> Q {
+            let g = gcd(n, d).max(1) * d.signum();
+            Q(n / g, d / g)
+        }
+        fn sub(self, o: Q) -> Q {
+            Q::new(self.0 * o.1 - o.0 * self.1, self.1 * o.1)
+        }
+        fn mul(self, o: Q) -> Q {
+            Q::new(self.0 * o.0, self.1 * o.1)
+        }
+        fn div(self, o: Q) -> Q {
+            Q::new(self.0 * o.1, self.1 * o.0)
+        }
+    }
+
+    /// Whether `A x = b`, `x ≥ 0` has a solution (`A` given by columns): some set of linearly
+    /// independent columns solves it with non-negative weights (a basic feasible solution).
+    fn feasible(columns: &[Vec<i64>], b: &[i64]) -> bool {
+        let m = b.len();
+        (1u32..1 << columns.len()).any(|mask| {
+            let chosen: Vec<&Vec<i64>> = (0..columns.len())
+                .filter(|k| mask >> k & 1 == 1)
+                .map(|k| &columns[k])
+                .collect();
+            let n = chosen.len();
+            // Augmented matrix, Gauss–Jordan elimination over the rationals.
+            let mut a: Vec<Vec<Q>> = (0..m)
+                .map(|r| {
+                    let mut row: Vec<Q> = chosen.iter().map(|c| Q(i128::from(c[r]), 1)).collect();
+                    row.push(Q(i128::from(b[r]), 1));
+                    row
+                })
+                .collect();
+            let mut rank = 0;
+            for col in 0..n {
+                let Some(piv) = (rank..m).find(|&r| a[r][col].0 != 0) else {
+                    return false; // dependent columns: a smaller set covers it
+                };
+                a.swap(rank, piv);
+                let p = a[rank][col];
+                for x in &mut a[rank] {
+                    *x = x.div(p);
+                }
+                for r in 0..m {
+                    if r != rank && a[r][col].0 != 0 {
+                        let f = a[r][col];
+                        for c in 0..=n {
+                            a[r][c] = a[r][c].sub(f.mul(a[rank][c]));
+                        }
+                    }
+                }
+                rank += 1;
+            }
+            // Consistent, and the unique solution is non-negative.
+            (rank..m).all(|r| a[r][n].0 == 0) && (0..n).all(|r| a[r][n].0 >= 0)
+        })
+    }
+
+    type I = [i64; 3];
+
+    fn sub3(a: I, b: I) -> I {
+        [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+    }
+
+    /// Oracle: do closed triangles `p`, `q` (no shared corner) meet? `Σλp = Σμq`, `Σλ = Σμ = 1`.
+    fn oracle_meet(p: [I; 3], q: [I; 3]) -> bool {
+        let mut cols = Vec::new();
+        for x in p {
+            cols.push(vec![1, 0, x[0], x[1], x[2]]);
+        }
+        for x in q {
+            cols.push(vec![0, 1, -x[0], -x[1], -x[2]]);
+        }
+        feasible(&cols, &[1, 1, 0, 0, 0])
+    }
+
+    /// Oracle: do the cones at `v` of `(v, a1, b1)` and `(v, a2, b2)` share a ray?
+    fn oracle_cones(v: I, a1: I, b1: I, a2: I, b2: I) -> bool {
+        let [a1, b1, a2, b2] = [a1, b1, a2, b2].map(|x| sub3(x, v));
+        let col = |w: i64, x: I, s: i64| vec![w, s * x[0], s * x[1], s * x[2]];
+        feasible(
+            &[col(1, a1, 1), col(1, b1, 1), col(0, a2, -1), col(0, b2, -1)],
+            &[1, 0, 0, 0],
+        )
+    }
+
+    /// Oracle: do the wedges along edge `u w` towards `a` and `b` overlap? `σ(w − u) + (a − u)
+    /// = t(b − u)` with `σ` free and `t ≥ 0`.
+    fn oracle_wedges(u: I, w: I, a: I, b: I) -> bool {
+        let (e, a, b) = (sub3(w, u), sub3(a, u), sub3(b, u));
+        let neg = |x: I| vec![-x[0], -x[1], -x[2]];
+        feasible(&[e.to_vec(), neg(e), b.to_vec()], &a)
+    }
+
+    /// Oracle: is `x` on the closed triangle `t`?
+    fn oracle_on(t: [I; 3], x: I) -> bool {
+        let cols: Vec<Vec<i64>> = t.iter().map(|p| vec![1, p[0], p[1], p[2]]).collect();
+        feasible(&cols, &[1, x[0], x[1], x[2]])
+    }
+
+    fn non_collinear(t: [I; 3]) -> bool {
+        let (u, w) = (sub3(t[1], t[0]), sub3(t[2], t[0]));
+        u[1] * w[2] != u[2] * w[1] || u[2] * w[0] != u[0] * w[2] || u[0] * w[1] != u[1] * w[0]
+    }
+
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+
+        #[test]
+        fn pair_tests_agree_with_linear_feasibility(
+            cells in proptest::sample::subsequence((0i64..64).collect::<Vec<_>>(), 7).prop_shuffle(),
+            ti in proptest::sample::subsequence((0usize..7).collect::<Vec<_>>(), 3).prop_shuffle(),
+            tj in proptest::sample::subsequence((0usize..7).collect::<Vec<_>>(), 3).prop_shuffle(),
+        ) {
+            // Seven distinct points of the 4 × 4 × 4 grid (spacing 1/4 in floating point).
+            let pool: Vec<I> = cells.iter().map(|&c| [c % 4, c / 4 % 4, c / 16]).collect();
+            let (ti, tj) = ([ti[0], ti[1], ti[2]], [tj[0], tj[1], tj[2]]);
+            let (pi, pj) = (ti.map(|k| pool[k]), tj.map(|k| pool[k]));
+            prop_assume!(non_collinear(pi) && non_collinear(pj));
+            let pts: Vec<P> = pool.iter().map(|p| p.map(|x| x as f64 * 0.25)).collect();
+            let shared: Vec<usize> = ti.iter().copied().filter(|k| tj.contains(k)).collect();
+            prop_assume!(shared.len() < 3);
+            let got = pair_intersects(&pts, ti.map(|k| k as u32), tj.map(|k| k as u32));
+            let want = match shared.len() {
+                0 => oracle_meet(pi, pj),
+                1 => {
+                    let v = shared[0];
+                    let o1: Vec<usize> = ti.iter().copied().filter(|&k| k != v).collect();
+                    let o2: Vec<usize> = tj.iter().copied().filter(|&k| k != v).collect();
+                    oracle_cones(pool[v], pool[o1[0]], pool[o1[1]], pool[o2[0]], pool[o2[1]])
+                }
+                _ => {
+                    let a = ti.iter().copied().find(|k| !tj.contains(k)).expect("third");
+                    let b = tj.iter().copied().find(|k| !ti.contains(k)).expect("third");
+                    oracle_wedges(pool[shared[0]], pool[shared[1]], pool[a], pool[b])
+                }
+            };
+            prop_assert_eq!(got, want, "{:?} {:?}", pi, pj);
+            // Symmetric, and independent of the corners' order.
+            let rotated = |t: [usize; 3]| [t[1], t[2], t[0]].map(|k| k as u32);
+            let reversed = |t: [usize; 3]| [t[0], t[2], t[1]].map(|k| k as u32);
+            prop_assert_eq!(pair_intersects(&pts, tj.map(|k| k as u32), ti.map(|k| k as u32)), want);
+            prop_assert_eq!(pair_intersects(&pts, rotated(ti), reversed(tj)), want);
+            // A corner of one on the other, off the shared corners.
+            for (t, x) in [(ti, tj), (tj, ti)] {
+                for &k in &x {
+                    if !t.contains(&k) {
+                        let on = point_on_triangle(t.map(|c| pts[c]), pts[k]);
+                        prop_assert_eq!(on, oracle_on(t.map(|c| pool[c]), pool[k]));
+                    }
+                }
+            }
+        }
+    }
 }
