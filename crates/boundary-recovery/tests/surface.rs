@@ -825,6 +825,57 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Grid points make degenerate rays everywhere: through vertices and edges, along faces.
+    /// Convexity gives the exact answer: inside iff strictly behind every outward facet.
+    #[test]
+    fn ray_location_agrees_with_convexity_on_grids(
+        cells in proptest::sample::subsequence((0u32..125).collect::<Vec<_>>(), 6..30),
+        flip in any::<bool>(),
+    ) {
+        let points: Vec<P> = cells
+            .iter()
+            .map(|&c| [c % 5, c / 5 % 5, c / 25].map(f64::from))
+            .collect();
+        let spans = points.iter().any(|&d| {
+            orient3d(points[0], points[1], points[2], d) != Sign::Zero
+        }) || points.len() < 4;
+        prop_assume!(Triangulation3::new(&points).is_ok() && spans);
+        let (mut hull, _) = convex_hull(&points);
+        let outward = hull.clone();
+        if flip {
+            for t in &mut hull {
+                t.swap(1, 2);
+            }
+        }
+        let s = check_surface(&Plc3::from_triangles(points.clone(), &hull)).unwrap();
+        prop_assert_eq!(s.components[0].outward, !flip);
+        for q in 0..9 * 9 * 9 {
+            let p = [q % 9, q / 9 % 9, q / 81].map(|x| f64::from(x) * 0.5 - 0.25);
+            let sides: Vec<Sign> = outward
+                .iter()
+                .map(|t| orient3d(points[t[0] as usize], points[t[1] as usize], points[t[2] as usize], p))
+                .collect();
+            let want = if sides.contains(&Sign::Positive) {
+                "outside"
+            } else if sides.contains(&Sign::Zero) {
+                "on"
+            } else {
+                "inside"
+            };
+            let got = match s.locate(p) {
+                Some(PointLocation::OnSurface { .. }) => "on",
+                Some(PointLocation::Enclosed { components }) if components == [0] => "inside",
+                Some(PointLocation::Enclosed { components }) if components.is_empty() => "outside",
+                other => panic!("{other:?}"),
+            };
+            prop_assert_eq!(got, want, "{:?}", p);
+        }
+    }
+}
+
 // ----- timing (release: cargo test --release -p delmesh-boundary-recovery --test surface -- --ignored --nocapture) -----
 
 /// A latitude–longitude sphere of radius `r` around `c`: `2·lon·(lat − 1)` triangles, outward.
