@@ -560,11 +560,12 @@ mod tests {
                 for x in &mut a[rank] {
                     *x = x.div(p);
                 }
-                for r in 0..m {
-                    if r != rank && a[r][col].0 != 0 {
-                        let f = a[r][col];
-                        for c in 0..=n {
-                            a[r][c] = a[r][c].sub(f.mul(a[rank][c]));
+                let pivot_row = a[rank].clone();
+                for (r, row) in a.iter_mut().enumerate() {
+                    if r != rank && row[col].0 != 0 {
+                        let f = row[col];
+                        for (x, &y) in row.iter_mut().zip(&pivot_row) {
+                            *x = x.sub(f.mul(y));
                         }
                     }
                 }
