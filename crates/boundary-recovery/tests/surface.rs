@@ -961,4 +961,10 @@ fn timing_of_a_fine_sphere() {
     }
     let s = timed("1000 bodies in a far field", &union(&solids));
     assert!(s.components[1..].iter().all(|c| c.parent == Some(0)));
+    // A fine body in a far field 400 times its size (non-uniform sizes).
+    let s = timed(
+        "fine sphere in a far-field box",
+        &union(&[cube([-200.0; 3], 400.0), sphere([0.0; 3], 1.0, 159, 316)]),
+    );
+    assert_eq!(s.components[1].parent, Some(0));
 }

@@ -1,12 +1,12 @@
 //! [`check_surface`]: the checks, in the order they run (each stage relies on the ones before,
 //! and the first stage that finds offenders reports all of its own).
 
+use super::bvh::Boxes;
 use super::error::{
     EdgeName, Listed, PointOnTriangle, SurfaceError, TriangleName, TrianglePair, VertexName,
 };
-use super::grid::Grid;
 use super::intersect::{collinear, intersecting_pairs, points_on_triangles, triangle_box, P};
-use super::volume::{signed_volume, Columns, Surface, Winding};
+use super::volume::{signed_volume, wind, Surface, Winding};
 use super::{CheckedSurface, SurfaceComponent, SurfaceEdge};
 use crate::plc3::{Plc3, SurfaceTriangle};
 use delmesh_predicates::{Sign, COORDINATE_RANGE};
@@ -102,7 +102,7 @@ pub(crate) fn scaled_points(points: &[P], base: u64) -> Result<(f64, Vec<P>), Su
 ///    error (found with a union–find over triangle corners across edges);
 /// 7. no point lies on a triangle it is not a corner of, and no two triangles intersect other
 ///    than in what they share, decided exactly (`orient3d`/`orient2d`, no tolerance) for the
-///    pairs whose bounding boxes overlap (found through a uniform grid): triangles with no
+///    pairs whose bounding boxes overlap (found through a bounding-volume hierarchy): triangles with no
 ///    common corner must have no common point (six segment–triangle tests, coplanar overlaps
 ///    included); triangles sharing a corner must not meet beyond it (their cones at that
 ///    corner are compared); triangles sharing an edge must not fold onto each other (coplanar
@@ -404,9 +404,8 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
     }
 
     // Geometry: points on triangles, then intersecting pairs.
-    let boxes: Vec<_> = tv.iter().map(|&t| triangle_box(&spts, t)).collect();
-    let grid = Grid::new(&boxes);
-    let on = points_on_triangles(&spts, 0..spts.len() as u32, &tv, &boxes, &grid);
+    let boxes = Boxes::new(tv.iter().map(|&t| triangle_box(&spts, t)).collect());
+    let on = points_on_triangles(&spts, 0..spts.len() as u32, &tv, &boxes);
     if !on.is_empty() {
         return Err(SurfaceError::PointOnTriangle {
             hits: Listed::of(
@@ -419,7 +418,7 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
             ),
         });
     }
-    let crossing = intersecting_pairs(&spts, &tv, &boxes, &grid);
+    let crossing = intersecting_pairs(&spts, &tv, &boxes);
     if !crossing.is_empty() {
         return Err(SurfaceError::SelfIntersection {
             pairs: Listed::of(
@@ -466,7 +465,6 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
 
     // Nesting: the components are disjoint closed surfaces, so one is inside another iff any
     // of its points is.
-    let columns = Columns::new(&spts, &tv);
     let surface = Surface {
         pts: &spts,
         tris: &tv,
@@ -476,7 +474,7 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
     let containers: Vec<Vec<u32>> = (0..components.len())
         .map(|c| {
             let probe = spts[tv[components[c].triangles[0] as usize][0] as usize];
-            let on = columns.wind(surface, c as u32, probe, false, &mut winding);
+            let on = wind(surface, &boxes, c as u32, probe, false, &mut winding);
             debug_assert!(on.is_none(), "components are disjoint");
             winding.take_nonzero()
         })
@@ -512,6 +510,6 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
         scale,
         scaled: spts,
         corners: tv,
-        columns,
+        boxes,
     })
 }

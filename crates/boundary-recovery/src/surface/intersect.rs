@@ -1,5 +1,5 @@
-//! Exact intersection tests between surface triangles, and the grid search that finds the
-//! pairs to test.
+//! Exact intersection tests between surface triangles, and the searches (over the hierarchy of
+//! the triangles' boxes) that find the pairs to test.
 //!
 //! All decisions are signs of `orient3d` and `orient2d` on the input coordinates (scaled by a
 //! power of two, which changes no sign). Triangles are closed sets; what counts as an
@@ -21,7 +21,7 @@
 //! - **an edge**: they overlap beyond it iff they are coplanar and their third corners lie on
 //!   the same side of the edge (folded onto each other).
 
-use super::grid::{overlap, Aabb, Grid};
+use super::bvh::{overlap, Aabb, Boxes};
 use delmesh_predicates::{orient2d, orient3d, Sign};
 
 pub(crate) type P = [f64; 3];
@@ -276,7 +276,7 @@ pub(crate) fn pair_intersects(pts: &[P], ti: [u32; 3], tj: [u32; 3]) -> bool {
 }
 
 /// The bounding box of a triangle.
-pub(crate) fn triangle_box(pts: &[P], t: [u32; 3]) -> Aabb<3> {
+pub(crate) fn triangle_box(pts: &[P], t: [u32; 3]) -> Aabb {
     let [a, b, c] = t.map(|v| pts[v as usize]);
     (
         std::array::from_fn(|k| a[k].min(b[k]).min(c[k])),
@@ -284,28 +284,23 @@ pub(crate) fn triangle_box(pts: &[P], t: [u32; 3]) -> Aabb<3> {
     )
 }
 
-/// All intersecting triangle pairs `(i, j)`, `i < j`, sorted.
-pub(crate) fn intersecting_pairs(
-    pts: &[P],
-    tris: &[[u32; 3]],
-    boxes: &[Aabb<3>],
-    grid: &Grid<3>,
-) -> Vec<(u32, u32)> {
-    let mut stamp = vec![u32::MAX; tris.len()];
+/// All intersecting triangle pairs `(i, j)`, `i < j`, sorted: the exact test on every pair
+/// whose boxes overlap.
+pub(crate) fn intersecting_pairs(pts: &[P], tris: &[[u32; 3]], boxes: &Boxes) -> Vec<(u32, u32)> {
     let mut out = Vec::new();
-    let mut cells = Vec::new();
-    for (i, ti) in tris.iter().enumerate() {
-        cells.clear();
-        grid.for_cells(&boxes[i], |k| cells.push(k));
-        for &k in &cells {
-            for &j in grid.bucket(k) {
-                let j = j as usize;
-                if j <= i || stamp[j] == i as u32 {
-                    continue;
-                }
-                stamp[j] = i as u32;
-                if overlap(&boxes[i], &boxes[j]) && pair_intersects(pts, *ti, tris[j]) {
-                    out.push((i as u32, j as u32));
+    let (mut stack, mut near) = (Vec::new(), Vec::new());
+    // One traversal per leaf: its box covers its (at most four) triangles' boxes.
+    for (leaf_box, items) in boxes.bvh().leaves() {
+        near.clear();
+        boxes.overlapping(leaf_box, &mut stack, |j| near.push(j));
+        for &i in items {
+            let bi = &boxes.boxes[i as usize];
+            for &j in &near {
+                if j > i
+                    && overlap(bi, &boxes.boxes[j as usize])
+                    && pair_intersects(pts, tris[i as usize], tris[j as usize])
+                {
+                    out.push((i, j));
                 }
             }
         }
@@ -320,21 +315,18 @@ pub(crate) fn points_on_triangles(
     pts: &[P],
     points: impl Iterator<Item = u32>,
     tris: &[[u32; 3]],
-    boxes: &[Aabb<3>],
-    grid: &Grid<3>,
+    boxes: &Boxes,
 ) -> Vec<(u32, u32)> {
     let mut out = Vec::new();
+    let mut stack = Vec::new();
     for v in points {
         let x = pts[v as usize];
-        for &t in grid.bucket(grid.cell_of(&x)) {
+        boxes.overlapping(&(x, x), &mut stack, |t| {
             let tri = tris[t as usize];
-            if tri.contains(&v) || !super::grid::contains(&boxes[t as usize], &x) {
-                continue;
-            }
-            if point_on_triangle(tri.map(|u| pts[u as usize]), x) {
+            if !tri.contains(&v) && point_on_triangle(tri.map(|u| pts[u as usize]), x) {
                 out.push((v, t));
             }
-        }
+        });
     }
     out.sort_unstable();
     out

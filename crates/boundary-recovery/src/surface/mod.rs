@@ -13,9 +13,9 @@
 //! [`Plc3::from_polygon_facets`] builds a [`Plc3`] from planar polygonal facets (TetGen
 //! `.poly`), triangulating each in its plane.
 
+mod bvh;
 mod check;
 mod error;
-mod grid;
 mod intersect;
 mod polygon;
 mod volume;
@@ -27,7 +27,8 @@ pub use error::{
 pub use polygon::PolygonFacet;
 
 use crate::plc3::{Plc3, SurfaceTriangle};
-use volume::{Columns, Surface, Winding};
+use bvh::Boxes;
+use volume::{wind, Surface, Winding};
 
 /// An edge of a checked surface and its two triangles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -98,8 +99,8 @@ pub struct CheckedSurface {
     scaled: Vec<[f64; 3]>,
     /// Triangle corners (as in `triangles`).
     corners: Vec<[u32; 3]>,
-    /// Triangles by `(y, z)` column, for ray queries.
-    columns: Columns,
+    /// Triangle boxes and their hierarchy, for ray queries.
+    boxes: Boxes,
 }
 
 impl CheckedSurface {
@@ -143,7 +144,7 @@ impl CheckedSurface {
             component: &self.triangle_component,
         };
         let mut winding = Winding::new(self.components.len());
-        if let Some(t) = self.columns.wind(surface, u32::MAX, q, true, &mut winding) {
+        if let Some(t) = wind(surface, &self.boxes, u32::MAX, q, true, &mut winding) {
             return Some(PointLocation::OnSurface { triangle: t });
         }
         Some(PointLocation::Enclosed {

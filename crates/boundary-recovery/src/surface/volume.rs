@@ -27,7 +27,7 @@
 //! is a bijection of the plane), so a point off the surface never needs more. No direction can
 //! be unlucky: there is no degenerate case left to fail on.
 
-use super::grid::{contains, Grid};
+use super::bvh::Boxes;
 use super::intersect::{point_on_triangle, P};
 use delmesh_predicates::{orient2d, orient3d, Sign};
 
@@ -202,61 +202,44 @@ pub(crate) fn ray_crossing(t: [P; 3], p: P) -> Crossing {
     }
 }
 
-/// The `(y, z)` bounding box of a triangle, for the ray's column grid.
-pub(crate) fn column_box(pts: &[P], t: [u32; 3]) -> ([f64; 2], [f64; 2]) {
-    let [a, b, c] = t.map(|v| pts[v as usize]);
-    (
-        [a[1].min(b[1]).min(c[1]), a[2].min(b[2]).min(c[2])],
-        [a[1].max(b[1]).max(c[1]), a[2].max(b[2]).max(c[2])],
-    )
-}
-
-/// The triangles whose `(y, z)` box contains `p`'s projection, for ray queries.
-#[derive(Clone, Debug)]
-pub(crate) struct Columns {
-    pub(crate) grid: Grid<2>,
-    pub(crate) boxes: Vec<([f64; 2], [f64; 2])>,
-}
-
-impl Columns {
-    pub(crate) fn new(pts: &[P], tris: &[[u32; 3]]) -> Columns {
-        let boxes: Vec<_> = tris.iter().map(|&t| column_box(pts, t)).collect();
-        Columns {
-            grid: Grid::new(&boxes),
-            boxes,
+/// Adds each triangle crossed by the ray from `p` to the winding count of its component
+/// (skipping component `skip`). The candidates are the triangles whose box meets the ray's box
+/// `[p, p + ∞·x]` (the perturbation is infinitesimal, so a triangle the perturbed ray crosses
+/// ahead has its box there). With `check_on`, returns the triangle `p` lies on, if any (the
+/// counts are then not meaningful); without it, `p` must not lie on the surface.
+pub(crate) fn wind(
+    surface: Surface<'_>,
+    boxes: &Boxes,
+    skip: u32,
+    p: P,
+    check_on: bool,
+    w: &mut Winding,
+) -> Option<u32> {
+    let ray = (p, [f64::INFINITY, p[1], p[2]]);
+    let mut on = None;
+    boxes.overlapping(&ray, &mut w.stack, |t| {
+        let c = surface.component[t as usize];
+        if c == skip || on.is_some() {
+            return;
         }
-    }
-
-    /// Adds each triangle crossed by the ray from `p` to the winding count of its component
-    /// (skipping component `skip`). With `check_on`, returns the triangle `p` lies on, if any
-    /// (the counts are then not meaningful); without it, `p` must not lie on the surface.
-    pub(crate) fn wind(
-        &self,
-        surface: Surface<'_>,
-        skip: u32,
-        p: P,
-        check_on: bool,
-        w: &mut Winding,
-    ) -> Option<u32> {
-        let q = [p[1], p[2]];
-        for &t in self.grid.bucket(self.grid.cell_of(&q)) {
-            let c = surface.component[t as usize];
-            if c == skip || !contains(&self.boxes[t as usize], &q) {
-                continue;
-            }
-            let tri = surface.tris[t as usize].map(|v| surface.pts[v as usize]);
-            match ray_crossing(tri, p) {
-                Crossing::Miss => {
-                    if check_on && point_on_triangle(tri, p) {
-                        return Some(t);
-                    }
+        let tri = surface.tris[t as usize].map(|v| surface.pts[v as usize]);
+        match ray_crossing(tri, p) {
+            Crossing::Miss => {
+                if check_on && point_on_triangle(tri, p) {
+                    on = Some(t);
                 }
-                Crossing::On => return Some(t),
-                Crossing::Front(s) => w.add(c, s),
+            }
+            Crossing::On => on = Some(t),
+            Crossing::Front(s) => {
+                if !w.seen[c as usize] {
+                    w.seen[c as usize] = true;
+                    w.touched.push(c);
+                }
+                w.counts[c as usize] += s;
             }
         }
-        None
-    }
+    });
+    on
 }
 
 /// The arrays a ray query reads: scaled points, triangles, the component of each triangle.
@@ -274,6 +257,7 @@ pub(crate) struct Winding {
     counts: Vec<i32>,
     seen: Vec<bool>,
     touched: Vec<u32>,
+    stack: Vec<u32>,
 }
 
 impl Winding {
@@ -282,15 +266,8 @@ impl Winding {
             counts: vec![0; n_components],
             seen: vec![false; n_components],
             touched: Vec::new(),
+            stack: Vec::new(),
         }
-    }
-
-    fn add(&mut self, c: u32, s: i32) {
-        if !self.seen[c as usize] {
-            self.seen[c as usize] = true;
-            self.touched.push(c);
-        }
-        self.counts[c as usize] += s;
     }
 
     /// The components with a non-zero count (sorted), and resets.
