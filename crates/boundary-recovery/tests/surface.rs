@@ -531,6 +531,15 @@ fn unit_cube_facets() -> (Vec<P>, Vec<PolygonFacet>) {
 }
 
 #[test]
+fn quad_grid_cube_is_closed() {
+    let (points, facets) = quad_cube(3);
+    let s = ok(&Plc3::from_polygon_facets(points, &facets, 0).unwrap());
+    assert_eq!(s.triangles.len(), 6 * 9 * 2);
+    assert!(s.components[0].outward);
+    assert_eq!(s.components[0].volume, 1.0);
+}
+
+#[test]
 fn polygon_cube_triangulates_and_checks() {
     let (points, facets) = unit_cube_facets();
     let plc = Plc3::from_polygon_facets(points, &facets, 0).unwrap();
@@ -876,6 +885,63 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Convex quadrilaterals are split directly by their Delaunay diagonal; the constrained
+    /// triangulation (forced here by a redundant segment polygon) agrees, cocircular ones too.
+    #[test]
+    fn convex_quads_split_as_the_constrained_triangulation_does(
+        corners in proptest::array::uniform4(proptest::array::uniform2(0i32..5)),
+        square in any::<bool>(),
+        start in 0usize..4,
+        reverse in any::<bool>(),
+        tilt in 0usize..3,
+    ) {
+        let mut q: Vec<[f64; 2]> = if square {
+            let [x, y] = corners[0].map(f64::from);
+            let [w, h] = corners[1].map(|v| f64::from(v + 1));
+            vec![[x, y], [x + w, y], [x + w, y + h], [x, y + h]]
+        } else {
+            corners.iter().map(|c| c.map(f64::from)).collect()
+        };
+        let turns: Vec<Sign> = (0..4)
+            .map(|i| delmesh_predicates::orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]))
+            .collect();
+        prop_assume!(turns[0] != Sign::Zero && turns.iter().all(|&t| t == turns[0]));
+        q.rotate_left(start);
+        if reverse {
+            q.reverse();
+        }
+        // In a plane through the 3D axes: z = 0, or tilted.
+        let points: Vec<P> = q
+            .iter()
+            .map(|&[x, y]| match tilt {
+                0 => [x, y, 0.0],
+                1 => [x, y, 0.5 * x + 0.25 * y],
+                _ => [0.25 * y, x, y],
+            })
+            .collect();
+        let quad = vec![0, 1, 2, 3];
+        let sets = |polygons: Vec<Vec<u32>>| {
+            let facet = PolygonFacet { polygons, holes: vec![], marker: 0 };
+            let plc = Plc3::from_polygon_facets(points.clone(), &[facet], 0).unwrap();
+            let mut t: Vec<[u32; 3]> = plc
+                .triangles
+                .iter()
+                .map(|t| {
+                    // Rotate so the smallest corner comes first (keeps the orientation).
+                    let k = (0..3).min_by_key(|&k| t.v[k]).unwrap();
+                    [t.v[k], t.v[(k + 1) % 3], t.v[(k + 2) % 3]]
+                })
+                .collect();
+            t.sort_unstable();
+            t
+        };
+        prop_assert_eq!(sets(vec![quad.clone()]), sets(vec![quad, vec![0, 1]]));
+    }
+}
+
 // ----- timing (release: cargo test --release -p delmesh-boundary-recovery --test surface -- --ignored --nocapture) -----
 
 /// A latitude–longitude sphere of radius `r` around `c`: `2·lon·(lat − 1)` triangles, outward.
@@ -967,4 +1033,55 @@ fn timing_of_a_fine_sphere() {
         &union(&[cube([-200.0; 3], 400.0), sphere([0.0; 3], 1.0, 159, 316)]),
     );
     assert_eq!(s.components[1].parent, Some(0));
+    // Polygonal facets: a cube with each face a 130 × 130 grid of quads (101 400 facets).
+    let (points, facets) = quad_cube(130);
+    let (wall, cpu) = (std::time::Instant::now(), thread_cpu_seconds());
+    let plc = Plc3::from_polygon_facets(points, &facets, 0).unwrap();
+    let (wall, cpu) = (wall.elapsed().as_secs_f64(), thread_cpu_seconds().zip(cpu));
+    println!(
+        "from_polygon_facets: {} quads to {} triangles: {wall:.3} s wall, {} CPU",
+        facets.len(),
+        plc.triangles.len(),
+        cpu.map_or("?".into(), |(b, a)| format!("{:.3} s", b - a)),
+    );
+    let s = timed("quad cube", &plc);
+    assert_eq!(s.components[0].volume, 1.0);
+}
+
+/// The unit cube, each face an `n × n` grid of quads (outward loops), points shared.
+fn quad_cube(n: u32) -> (Vec<P>, Vec<PolygonFacet>) {
+    let mut index = std::collections::HashMap::new();
+    let mut points = Vec::new();
+    let mut id = |p: [u32; 3]| {
+        *index.entry(p).or_insert_with(|| {
+            points.push(p.map(|x| f64::from(x) / f64::from(n)));
+            points.len() as u32 - 1
+        })
+    };
+    let mut facets = Vec::new();
+    for axis in 0..3 {
+        for side in [0, n] {
+            for i in 0..n {
+                for j in 0..n {
+                    let at = |di: u32, dj: u32| {
+                        let mut p = [0; 3];
+                        p[axis] = side;
+                        p[(axis + 1) % 3] = i + di;
+                        p[(axis + 2) % 3] = j + dj;
+                        p
+                    };
+                    let mut quad = vec![at(0, 0), at(1, 0), at(1, 1), at(0, 1)];
+                    if side == 0 {
+                        quad.reverse();
+                    }
+                    facets.push(PolygonFacet {
+                        polygons: vec![quad.into_iter().map(&mut id).collect()],
+                        holes: vec![],
+                        marker: axis as i32,
+                    });
+                }
+            }
+        }
+    }
+    (points, facets)
 }

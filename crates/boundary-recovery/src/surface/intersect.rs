@@ -22,7 +22,27 @@
 //!   the same side of the edge (folded onto each other).
 
 use super::bvh::{overlap, Aabb, Boxes};
-use delmesh_predicates::{orient2d, orient3d, Sign};
+use delmesh_predicates::Sign;
+
+/// `orient3d`, answering zero without arithmetic when the four points share a coordinate
+/// exactly (they lie in an axis-aligned plane: flat faces of boxes, symmetry planes), which is
+/// otherwise the exact predicate's slowest case.
+#[inline]
+pub(crate) fn orient3d(a: P, b: P, c: P, d: P) -> Sign {
+    if (0..3).any(|k| a[k] == b[k] && a[k] == c[k] && a[k] == d[k]) {
+        return Sign::Zero;
+    }
+    delmesh_predicates::orient3d(a, b, c, d)
+}
+
+/// `orient2d`, answering zero without arithmetic when the three points share a coordinate.
+#[inline]
+pub(crate) fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
+    if (0..2).any(|k| a[k] == b[k] && a[k] == c[k]) {
+        return Sign::Zero;
+    }
+    delmesh_predicates::orient2d(a, b, c)
+}
 
 pub(crate) type P = [f64; 3];
 

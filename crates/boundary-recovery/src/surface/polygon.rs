@@ -18,14 +18,14 @@
 
 use super::check::scaled_points;
 use super::error::SurfaceError;
-use super::intersect::{collinear, project, projection_axis, P};
+use super::intersect::{collinear, orient2d, orient3d, project, projection_axis, P};
 use crate::classify::{classify, OUTSIDE};
 use crate::plc::Plc2;
 use crate::plc3::SurfaceTriangle;
 use delmesh_delaunay_core::{
     CellId, ConstrainedTriangulation2, ConstraintError, Location, Triangulation2, VertexId,
 };
-use delmesh_predicates::{orient2d, orient3d, Sign};
+use delmesh_predicates::{incircle_lex, Sign};
 use std::collections::HashMap;
 
 /// A planar polygonal facet: polygons, hole points and a boundary marker.
@@ -128,6 +128,33 @@ fn triangulate_facet(
                 marker: facet.marker,
                 facet: f,
             });
+            return Ok(());
+        }
+    }
+
+    // A strictly convex quadrilateral is split by its Delaunay diagonal (the perturbed
+    // in-circle test, the choice the constrained triangulation would make).
+    if facet.polygons.len() == 1 && local.len() == 4 && facet.polygons[0].len() == 4 {
+        let p = &facet.polygons[0];
+        let q: [[f64; 2]; 4] = std::array::from_fn(|i| project(points[p[i] as usize], axis));
+        let turn: [Sign; 4] =
+            std::array::from_fn(|i| orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]));
+        if facet.holes.is_empty() && turn[0] != Sign::Zero && turn.iter().all(|&t| t == turn[0]) {
+            let circle = if turn[0] == Sign::Positive {
+                [q[0], q[1], q[2], q[3]]
+            } else {
+                [q[0], q[2], q[1], q[3]]
+            };
+            let pairs = if incircle_lex(circle) == Sign::Positive {
+                [[p[0], p[1], p[3]], [p[1], p[2], p[3]]]
+            } else {
+                [[p[0], p[1], p[2]], [p[0], p[2], p[3]]]
+            };
+            out.extend(pairs.map(|v| SurfaceTriangle {
+                v,
+                marker: facet.marker,
+                facet: f,
+            }));
             return Ok(());
         }
     }

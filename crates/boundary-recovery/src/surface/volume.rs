@@ -28,8 +28,8 @@
 //! be unlucky: there is no degenerate case left to fail on.
 
 use super::bvh::Boxes;
-use super::intersect::{point_on_triangle, P};
-use delmesh_predicates::{orient2d, orient3d, Sign};
+use super::intersect::{orient2d, orient3d, point_on_triangle, P};
+use delmesh_predicates::Sign;
 
 const EPS: f64 = f64::EPSILON / 2.0;
 
