@@ -254,7 +254,10 @@ fn triangulate_facet(
                 _ => continue,
             };
             let v = tri.cell(x);
-            let at = v.iter().position(|&u| u == va).expect("edge in its cell");
+            let at = v
+                .iter()
+                .position(|&u| u == va)
+                .expect("a found edge is in its cell: a bug in delmesh");
             keep = v[(at + 1) % 3] == vb;
             break 'find;
         }

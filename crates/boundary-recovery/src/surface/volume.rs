@@ -8,9 +8,9 @@
 //! determinants' permanents times a multiple of the unit round-off, plus the summation's
 //! error), and when the sum does not clear it (a surface of almost no volume) the sum is
 //! redone exactly: with `o` at the origin each determinant is six triple products of input
-//! coordinates, each an exact sum of four doubles (two fused multiply–adds per product), which
-//! go into one exact floating-point expansion (Shewchuk's Grow-Expansion with zero
-//! elimination). Coordinates are scaled by a power of two into `[0.5, 1)` and at least
+//! coordinates, each an exact sum of four doubles (three products, each with its rounding
+//! error from a fused multiply–add), which go into one exact floating-point expansion
+//! (Shewchuk's Grow-Expansion with zero elimination). Coordinates are scaled by a power of two into `[0.5, 1)` and at least
 //! `2^-142` in magnitude, so no product underflows and every step is exact.
 //!
 //! **Inside or outside.** The winding number of a closed surface about a point `p` not on it is
