@@ -694,6 +694,11 @@ fn facet_errors() {
         err(facet(vec![vec![0, 4, 6, 5], vec![7]])),
         "facet 0: point 7 lies inside polygon edge 0-4"
     );
+    // Along the triangulation's hull through another point.
+    assert_eq!(
+        err(facet(vec![vec![4, 6, 5], vec![7, 0, 4]])),
+        "facet 0: point 7 lies inside polygon edge 0-4"
+    );
     assert_eq!(
         err(facet(vec![vec![0, 4, 4, 6, 5]])),
         "facet 0: polygon edge 4-4 has zero length"
@@ -939,6 +944,75 @@ proptest! {
             t
         };
         prop_assert_eq!(sets(vec![quad.clone()]), sets(vec![quad, vec![0, 1]]));
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    /// Whatever the input, an answer and never a panic; a valid answer is self-consistent.
+    #[test]
+    fn arbitrary_input_never_panics(
+        cells in proptest::collection::vec(0u32..27, 1..12),
+        bad in 0u8..8,
+        tris in proptest::collection::vec(proptest::array::uniform3(0u32..13), 0..16),
+        polygons in proptest::collection::vec(proptest::collection::vec(0u32..24, 0..5), 0..3),
+        ring_mask in 0u32..256,
+        hole in proptest::array::uniform3(0u32..3),
+    ) {
+        let mut points: Vec<P> = cells
+            .iter()
+            .map(|&c| [c % 3, c / 3 % 3, c / 9].map(f64::from))
+            .collect();
+        match bad {
+            0 => points[0][1] = f64::NAN,
+            1 => points[0][2] = 1e-300,
+            2 => points[0][0] = f64::MAX,
+            3 => {}
+            // Planar pools reach the facets' constrained triangulation.
+            _ => points.iter_mut().for_each(|p| p[2] = 0.0),
+        }
+        match check_surface(&Plc3::from_triangles(points.clone(), &tris)) {
+            Ok(s) => {
+                prop_assert!(s.edges.len() * 2 == s.triangles.len() * 3);
+                for c in &s.components {
+                    prop_assert!(c.volume != 0.0 && (c.volume > 0.0) == c.outward);
+                }
+            }
+            Err(e) => prop_assert!(!e.to_string().is_empty()),
+        }
+        // The facet: the 3 × 3 grid at z = 0 (points 0–8) before the pool; the first polygon a
+        // simple loop on the grid's boundary ring, the others (and the holes) arbitrary.
+        let ring = [0u32, 1, 2, 5, 8, 7, 6, 3];
+        let first: Vec<u32> = ring
+            .iter()
+            .zip(0..)
+            .filter(|&(_, k)| ring_mask >> k & 1 == 1)
+            .map(|(&v, _)| v)
+            .collect();
+        let mut grid: Vec<P> = (0..9).map(|c| [c % 3, c / 3, 0].map(f64::from)).collect();
+        grid.extend(points);
+        let points = grid;
+        let n = points.len() as u32;
+        let mut all = vec![first];
+        all.extend(polygons.into_iter().map(|p| {
+            if bad == 5 { p } else { p.iter().map(|&v| v % n).collect() }
+        }));
+        let facet = PolygonFacet {
+            polygons: all,
+            holes: vec![hole.map(|x| f64::from(x) * 0.5)],
+            marker: 3,
+        };
+        match Plc3::from_polygon_facets(points, &[facet.clone(), facet], 1) {
+            Ok(plc) => {
+                prop_assert!(plc.triangles.iter().all(|t| t.marker == 3));
+                let _ = check_surface(&plc);
+            }
+            Err(e) => {
+                // Never the kernel's complaint (a bug in delmesh if it fires).
+                prop_assert!(!matches!(e, SurfaceError::FacetTriangulation { .. }), "{}", e);
+            }
+        }
     }
 }
 

@@ -208,7 +208,28 @@ fn triangulate_facet(
                     second: [name(global(&cdt, c)), name(global(&cdt, d))],
                 })
             }
-            Err(e) => return Err(kernel(e)),
+            Err(e) => {
+                // The kernel reports a segment running along its convex hull through another
+                // vertex as a missing edge: name that vertex if there is one.
+                let (pu, pw) = (pts2[local_of[&u] as usize], pts2[local_of[&w] as usize]);
+                let k = if pu[0] != pw[0] { 0 } else { 1 };
+                let inside = |x: [f64; 2]| {
+                    orient2d(pu, pw, x) == Sign::Zero
+                        && pu[k].min(pw[k]) < x[k]
+                        && x[k] < pu[k].max(pw[k])
+                };
+                return Err(
+                    match local.iter().find(|&&v| inside(pts2[local_of[&v] as usize])) {
+                        Some(&v) => SurfaceError::FacetPointOnEdge {
+                            facet: fname,
+                            point: name(v),
+                            a: name(u),
+                            b: name(w),
+                        },
+                        None => kernel(e),
+                    },
+                );
+            }
         }
     }
 
