@@ -34,6 +34,7 @@ mod plc;
 mod plc3;
 mod recovery;
 mod recovery3;
+mod surface;
 
 pub use classify::OUTSIDE;
 pub use error::RecoveryError;
@@ -46,4 +47,8 @@ pub use recovery::{
 };
 pub use recovery3::{
     BoundaryFace, BoundaryRecovery3, Mesh3, RecoveryHistory3, RecoveryMethod3, RecoveryStep,
+};
+pub use surface::{
+    check_surface, CheckedSurface, EdgeName, Listed, PointLocation, PointOnTriangle, PolygonFacet,
+    SurfaceComponent, SurfaceEdge, SurfaceError, TriangleName, TrianglePair, VertexName,
 };

@@ -1,0 +1,189 @@
+//! Surface checks for 3D meshing: is a [`Plc3`] a set of closed, consistently oriented,
+//! non-intersecting triangle surfaces, and which of them lie inside which?
+//!
+//! 3D boundary recovery needs every surface triangle to end up as a face of the tetrahedral
+//! mesh, and the flood fill that deletes the exterior needs the surfaces to separate space into
+//! clean insides and outsides. Both fail in confusing ways, deep inside the mesher, on a surface
+//! that is open, folded or self-intersecting, so [`check_surface`] rejects those first, with
+//! errors naming the facets and points in the user's numbering ([`SurfaceError`]).
+//!
+//! [`check_surface`]'s documentation lists the stages and why each decision is exact; the
+//! predicates are in `intersect.rs` (triangle pairs) and `volume.rs` (volumes, the ray).
+//!
+//! [`Plc3::from_polygon_facets`] builds a [`Plc3`] from planar polygonal facets (TetGen
+//! `.poly`), triangulating each in its plane.
+
+mod bvh;
+mod check;
+mod error;
+mod intersect;
+mod polygon;
+mod volume;
+
+pub use check::check_surface;
+pub use error::{
+    EdgeName, Listed, PointOnTriangle, SurfaceError, TriangleName, TrianglePair, VertexName,
+};
+pub use polygon::PolygonFacet;
+
+use crate::plc3::{Plc3, SurfaceTriangle};
+use bvh::Boxes;
+use volume::{wind, Surface, Winding};
+
+/// An edge of a checked surface and its two triangles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SurfaceEdge {
+    /// The end points (indices into [`CheckedSurface::points`]), `v[0] < v[1]`.
+    pub v: [u32; 2],
+    /// The triangle traversing the edge from `v[0]` to `v[1]`, then the one traversing it
+    /// from `v[1]` to `v[0]` (indices into [`CheckedSurface::triangles`]).
+    pub triangles: [u32; 2],
+}
+
+/// One closed surface (a connected component of the triangles, joined across edges).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SurfaceComponent {
+    /// Its triangles (indices into [`CheckedSurface::triangles`]), in input order.
+    pub triangles: Vec<u32>,
+    /// The enclosed volume, positive when the triangles are oriented outward (counter-clockwise
+    /// seen from outside), negative when inward.
+    pub volume: f64,
+    /// Whether the triangles face outward (the sign of `volume`, certified exactly).
+    pub outward: bool,
+    /// How many other components enclose this one.
+    pub depth: u32,
+    /// The innermost component enclosing this one.
+    pub parent: Option<u32>,
+}
+
+/// Where a point lies relative to a checked surface ([`CheckedSurface::locate`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum PointLocation {
+    /// On the closed triangle with this index.
+    OnSurface {
+        /// The triangle (index into [`CheckedSurface::triangles`]).
+        triangle: u32,
+    },
+    /// Off the surface, inside these components (sorted; empty: outside all).
+    Enclosed {
+        /// The enclosing components.
+        components: Vec<u32>,
+    },
+}
+
+/// A surface that passed [`check_surface`]: closed, consistently oriented, manifold and free of
+/// self-intersections; with its edges, closed components, volumes and nesting.
+#[derive(Clone, Debug)]
+pub struct CheckedSurface {
+    /// The distinct input points (duplicates merged), in the order of their first occurrence.
+    pub points: Vec<[f64; 3]>,
+    /// For each point, its input index (0-based; the first occurrence).
+    pub input_index: Vec<u32>,
+    /// For each input point, its index in [`CheckedSurface::points`].
+    pub vertex_of_input: Vec<u32>,
+    /// Merged duplicates: `(duplicate, first occurrence)` input indices (0-based), sorted.
+    pub merged: Vec<(u32, u32)>,
+    /// The triangles, in input order, with corners indexing [`CheckedSurface::points`].
+    pub triangles: Vec<SurfaceTriangle>,
+    /// Every edge once, sorted by its end points.
+    pub edges: Vec<SurfaceEdge>,
+    /// The component of each triangle.
+    pub triangle_component: Vec<u32>,
+    /// The closed surfaces, numbered in the order of their first triangle.
+    pub components: Vec<SurfaceComponent>,
+    /// The input's numbering base (0 or 1), for messages.
+    pub first_index: u32,
+    /// The power of two that scaled the coordinates for the predicates.
+    scale: f64,
+    /// Scaled points (what the predicates see).
+    scaled: Vec<[f64; 3]>,
+    /// Triangle corners (as in `triangles`).
+    corners: Vec<[u32; 3]>,
+    /// Triangle boxes and their hierarchy, for ray queries.
+    boxes: Boxes,
+}
+
+impl CheckedSurface {
+    /// The volume of the domain by nesting parity, without hole seeds: the space inside an odd
+    /// number of surfaces. Components at even depth (the far field, a cavity inside a body)
+    /// add their volume, those at odd depth (bodies, the material of a hollow body) subtract
+    /// theirs: `Σ ±|volume|`. With hole seeds (or region seeds that should keep a body's
+    /// inside) the caller decides which nested regions to keep, with
+    /// [`CheckedSurface::locate`] telling which surfaces enclose each seed.
+    pub fn domain_volume(&self) -> f64 {
+        self.components
+            .iter()
+            .map(|c| {
+                if c.depth % 2 == 0 {
+                    c.volume.abs()
+                } else {
+                    -c.volume.abs()
+                }
+            })
+            .sum()
+    }
+
+    /// Where the point lies: on the surface (which triangle), or which components enclose it;
+    /// decided exactly by the perturbed ray of [`check_surface`]'s nesting. `None` if a
+    /// coordinate is not finite or, scaled as the surface was, outside the exact predicates'
+    /// range (a non-zero magnitude below 2^-142 or above 2^201 times the surface's largest).
+    pub fn locate(&self, p: [f64; 3]) -> Option<PointLocation> {
+        if p.iter().any(|x| !x.is_finite()) {
+            return None;
+        }
+        let q = p.map(|x| x * self.scale);
+        let (tiny, huge) = delmesh_predicates::COORDINATE_RANGE;
+        if q.iter()
+            .any(|x| x.abs() > huge || (*x != 0.0 && x.abs() < tiny))
+        {
+            return None;
+        }
+        let surface = Surface {
+            pts: &self.scaled,
+            tris: &self.corners,
+            component: &self.triangle_component,
+        };
+        let mut winding = Winding::new(self.components.len());
+        if let Some(t) = wind(surface, &self.boxes, u32::MAX, q, true, &mut winding) {
+            return Some(PointLocation::OnSurface { triangle: t });
+        }
+        Some(PointLocation::Enclosed {
+            components: winding.take_nonzero(),
+        })
+    }
+
+    /// Whether the point is in the domain by nesting parity (inside an odd number of
+    /// surfaces, as [`CheckedSurface::domain_volume`] counts); `None` on the surface or for a
+    /// point [`CheckedSurface::locate`] cannot take.
+    pub fn in_domain(&self, p: [f64; 3]) -> Option<bool> {
+        match self.locate(p)? {
+            PointLocation::OnSurface { .. } => None,
+            PointLocation::Enclosed { components } => Some(components.len() % 2 == 1),
+        }
+    }
+}
+
+impl Plc3 {
+    /// A PLC from planar polygonal facets (TetGen `.poly` style), each triangulated in its
+    /// plane: see [`PolygonFacet`]. Triangle `k` of the result carries the number and marker
+    /// of the facet it came from; `first_index` is the input's numbering base, used in errors
+    /// and kept in the result.
+    ///
+    /// # Errors
+    /// A bad point index or coordinate, a non-planar or degenerate facet, crossing polygon
+    /// edges, a point inside a polygon edge, a hole point on a polygon, or a facet that
+    /// encloses nothing.
+    pub fn from_polygon_facets(
+        points: Vec<[f64; 3]>,
+        facets: &[PolygonFacet],
+        first_index: u32,
+    ) -> Result<Plc3, SurfaceError> {
+        let triangles = polygon::triangulate_facets(&points, facets, first_index)?;
+        Ok(Plc3 {
+            points,
+            triangles,
+            first_index,
+            ..Default::default()
+        })
+    }
+}
