@@ -7,16 +7,43 @@
 //! The face opposite the moving point is fixed, so a tetrahedron's volume is linear in the
 //! point's position: one dot product with that face's normal per tetrahedron.
 //!
-//! Laplacian smoothing in 3D can also make *slivers*: four nearly coplanar points, a flat
-//! tetrahedron with a fine volume fraction and a good radius–edge ratio but dihedral angles near
-//! 0° and 180°, which no orientation or volume test catches. [`DihedralGuard`] adds a third
-//! rule: a move may not lower the smallest dihedral angle of the point's tetrahedra below a floor
-//! (nor below its current value, if that is already lower). Measured on Delaunay meshes of
-//! random points and on jittered grids (`cargo run --release -p delmesh-smoothing --example
-//! dihedral_guard`), the plain smoother leaves the worst angle where it was or makes it worse
-//! while improving the mean; a floor keeps the worst angle from getting worse at a small cost
-//! in speed and in the mean. [`Smoother3::new`] therefore enables the guard with a floor of
-//! [`DEFAULT_DIHEDRAL_FLOOR`] degrees.
+//! Laplacian smoothing in 3D also makes *slivers*: four nearly coplanar points, a flat
+//! tetrahedron with dihedral angles near 0° and 180° but a fine radius–edge ratio, which the
+//! orientation test lets through and the volume fraction only slows down (it bounds one move,
+//! not thirty). [`DihedralGuard`] adds a third rule: a move may not make the smallest dihedral
+//! angle of the point's tetrahedra smaller than a floor, nor smaller than it is now if it is
+//! already below the floor; a move that would is halved like the others, then skipped.
+//!
+//! # Choosing the default guard (measured)
+//! `cargo run --release -p delmesh-smoothing --example dihedral_guard 100000 spaced`: the
+//! Delaunay tetrahedralisation of a jittered body-centred cubic lattice in the unit cube
+//! (well-spaced points, as mesh generation makes; 105 525 points, 622 455 tetrahedra, hull
+//! fixed), ω = 0.2, N = 30. Counts are tetrahedra by smallest dihedral angle.
+//!
+//! | guard        | < 5° | < 10° | 10–20° | mean smallest | worst radius–edge |
+//! |--------------|-----:|------:|-------:|--------------:|------------------:|
+//! | (input)      | 1199 |  4175 |   7485 |        46.45° |              2.45 |
+//! | off          | 6716 | 10384 |   3650 |        53.39° |           3.4·10⁶ |
+//! | floor 5°     |  166 | 10133 |   3837 |        53.22° |              6.09 |
+//! | floor 10°    |  148 |  1983 |  11850 |        52.83° |              6.87 |
+//! | floor 20°    |  139 |  1608 |   8628 |        51.93° |              5.83 |
+//! | floor 30°    |  134 |  1614 |   8085 |        51.62° |              5.98 |
+//! | no decrease  |  140 |  1639 |   8098 |        51.14° |              5.33 |
+//!
+//! Unguarded smoothing raises the mean but multiplies the slivers by 5.6 (some with a
+//! radius–edge ratio in the millions); any floor removes almost nine in ten of the input's
+//! slivers instead, because a point next to a sliver may still move as long as it does not
+//! make the sliver worse. A floor lets elements sink down to it, so a low floor fills the bins
+//! just above it (5°: ten thousand under 10°); 20° leaves the fewest elements under 20° of the
+//! floors up to 20°, for 1.5° of mean angle, and higher floors gain little more. On a jittered
+//! Kuhn grid (`kuhn`), whose bad elements come from the jitter alone, smoothing removes all of
+//! them with or without a guard (smallest angle 41.9° unguarded and with a 20° floor).
+//!
+//! The guard costs CPU time on every move (the six angles of each tetrahedron tried, without
+//! square roots while they are above the floor) and more where it refuses (five step lengths
+//! tried): 1.6× the time of unguarded smoothing on the grid, 1.75× on the lattice mesh (10^5
+//! points, one thread). [`Smoother3::new`] sets [`DihedralGuard::Floor`] of
+//! [`DEFAULT_DIHEDRAL_FLOOR`] = 20° all the same: slivers cost a solver far more.
 //!
 //! Points are processed in colour classes (no two points of a class share an edge): within a
 //! class every move reads only points that do not move, so the class is computed in parallel
@@ -53,7 +80,9 @@ pub enum DihedralGuard {
     /// No rule on angles (only orientation and the volume fraction).
     Off,
     /// A move may not make the smallest dihedral angle of the point's tetrahedra smaller than
-    /// this many degrees, nor smaller than it is now if it is already below that.
+    /// this many degrees, nor smaller than it is now if it is already below that. A floor at or
+    /// above [`REGULAR_DIHEDRAL`] (which no tetrahedron exceeds) acts as
+    /// [`DihedralGuard::NoDecrease`].
     Floor(f64),
     /// A move may never make the smallest dihedral angle of the point's tetrahedra smaller.
     NoDecrease,
@@ -61,6 +90,29 @@ pub enum DihedralGuard {
 
 /// Laplacian smoothing of tetrahedral meshes with relaxation factor ω and N passes; boundary
 /// points stay fixed and no tetrahedron is ever inverted.
+///
+/// ```
+/// use delmesh_smoothing::{QualityReport3, Smoother3};
+/// // An octahedron (fixed) around one free point, off centre: eight tetrahedra, one per octant.
+/// let mut points = vec![
+///     [0.3, -0.2, 0.1],
+///     [1.0, 0.0, 0.0], [-1.0, 0.0, 0.0],
+///     [0.0, 1.0, 0.0], [0.0, -1.0, 0.0],
+///     [0.0, 0.0, 1.0], [0.0, 0.0, -1.0],
+/// ];
+/// let tets = [
+///     [0, 1, 3, 5], [0, 2, 5, 3], [0, 1, 5, 4], [0, 1, 6, 3],
+///     [0, 2, 4, 5], [0, 2, 3, 6], [0, 1, 4, 6], [0, 2, 6, 4],
+/// ];
+/// let mut fixed = [true; 7];
+/// fixed[0] = false;
+/// let before = QualityReport3::of_tetrahedra(&points, &tets);
+/// let stats = Smoother3::new().smooth(&mut points, &tets, &fixed).unwrap();
+/// let after = QualityReport3::of_tetrahedra(&points, &tets);
+/// assert!(stats.moved > 0 && after.min_dihedral > before.min_dihedral);
+/// assert!(points[0].iter().all(|x| x.abs() < 0.1)); // towards the centre
+/// assert!((after.total_volume - 4.0 / 3.0).abs() < 1e-12);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Smoother3 {
     omega: f64,

@@ -31,6 +31,22 @@ pub(crate) fn cross(a: P3, b: P3) -> P3 {
     ]
 }
 
+/// Each vector divided by its largest component in magnitude (zero vectors kept): directions
+/// unchanged, lengths in [1, √3], so that products of four lengths neither overflow nor
+/// underflow whatever the mesh's scale.
+#[inline]
+fn scaled(g: &[P3; 4]) -> [P3; 4] {
+    g.map(|x| {
+        let m = x[0].abs().max(x[1].abs()).max(x[2].abs());
+        if m > 0.0 {
+            let r = 1.0 / m;
+            [x[0] * r, x[1] * r, x[2] * r]
+        } else {
+            x
+        }
+    })
+}
+
 /// The pairs of faces (by opposite local vertex) that meet at each of the six edges.
 pub(crate) const FACE_PAIRS: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
 
@@ -66,6 +82,7 @@ pub(crate) fn min_dihedral_cos(p: &[P3; 4]) -> f64 {
 /// [`face_normals`] gives them): 1 if a face is degenerate.
 #[inline]
 pub(crate) fn worst_cos(g: &[P3; 4]) -> f64 {
+    let g = scaled(g);
     let len = g.map(|x| dot(x, x).sqrt());
     if len.iter().any(|&l| l.is_nan() || l <= 0.0) {
         return 1.0;
@@ -83,9 +100,18 @@ pub(crate) fn worst_cos(g: &[P3; 4]) -> f64 {
 #[inline]
 pub(crate) fn dihedrals_within(g: &[P3; 4], c2: f64) -> bool {
     let len2 = g.map(|x| dot(x, x));
-    if len2.iter().any(|&l| l.is_nan() || l <= 0.0) {
-        return false;
+    // Products of two squared lengths stay in range for ordinary scales: no rescaling then.
+    if len2.iter().all(|&l| l > 1e-140 && l < 1e140) {
+        within(g, &len2, c2)
+    } else {
+        let g = scaled(g);
+        let len2 = g.map(|x| dot(x, x));
+        len2.iter().all(|&l| l > 0.0) && within(&g, &len2, c2)
     }
+}
+
+#[inline(always)]
+fn within(g: &[P3; 4], len2: &[f64; 4], c2: f64) -> bool {
     FACE_PAIRS.iter().all(|&(k, l)| {
         let d = -dot(g[k], g[l]);
         d <= 0.0 || d * d <= c2 * len2[k] * len2[l]
@@ -103,7 +129,7 @@ fn angle_between(gk: P3, gl: P3) -> f64 {
 /// picked by their cosines, then measured with `atan2` (accurate near 0° and 180°, where a
 /// sliver's angles are). A tetrahedron with a degenerate face gives 0° and 180°.
 pub(crate) fn dihedral_extremes(p: &[P3; 4]) -> (f64, f64) {
-    let g = face_normals(p);
+    let g = scaled(&face_normals(p));
     let len = g.map(|x| dot(x, x).sqrt());
     if len.iter().any(|&l| l.is_nan() || l <= 0.0) {
         if len.iter().any(|l| l.is_nan()) {
@@ -195,6 +221,16 @@ mod tests {
         let g = face_normals(&p);
         assert!(dihedrals_within(&g, (0.3334f64).powi(2)));
         assert!(!dihedrals_within(&g, (0.3333f64).powi(2)));
+        // Scale does not matter, even where squared products of normals would overflow.
+        for scale in [1e-60, 1e60] {
+            let q = p.map(|x| x.map(|c| c * scale));
+            let g = face_normals(&q);
+            assert!(dihedrals_within(&g, (0.3334f64).powi(2)), "{scale}");
+            assert!(!dihedrals_within(&g, (0.3333f64).powi(2)), "{scale}");
+            assert!((min_dihedral_cos(&q) - 1.0 / 3.0).abs() < 1e-15);
+            let (lo, hi) = dihedral_extremes(&q);
+            assert!((lo - want).abs() < 1e-12 && (hi - want).abs() < 1e-12);
+        }
         assert_eq!(volume6(&p).abs(), 16.0);
     }
 }
