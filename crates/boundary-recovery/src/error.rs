@@ -88,6 +88,9 @@ pub enum RecoveryError {
         /// Points added before giving up.
         added: usize,
     },
+    /// The 3D surface fails an input check (open, non-manifold, self-intersecting, ...).
+    #[error(transparent)]
+    Surface(#[from] crate::surface::SurfaceError),
     /// After removing the exterior and the holes nothing is left.
     #[error(
         "no element is inside the domain: the segments must form closed loops around it \

@@ -32,6 +32,7 @@ use crate::apriori3::a_priori_points;
 use crate::classify3::{classify3, OUTSIDE};
 use crate::error::RecoveryError;
 use crate::plc3::Plc3;
+use crate::surface::{check_surface, CheckedSurface};
 use delmesh_delaunay_core::{
     find_face_in, CellId, ConstrainedTriangulation2, ConstrainedTriangulation3, Insertion,
     StarSearch, Triangulation2, Triangulation3, VertexId,
@@ -262,8 +263,10 @@ pub struct BoundaryRecovery3 {
     extra_points: Vec<[f64; 3]>,
     max_steiner: Option<usize>,
     /// Per surface triangle, the side of the domain (+1 along the normal, −1 against, 0
-    /// unknown): where the a-priori points go.
+    /// unknown): where the a-priori points go. Derived from the surface checks when empty.
     sides: Vec<f64>,
+    /// Skip the input checks (the surface is known good, e.g. a recovered one).
+    trusted: bool,
 }
 
 impl Default for BoundaryRecovery3 {
@@ -323,7 +326,15 @@ impl BoundaryRecovery3 {
             extra_points: Vec::new(),
             max_steiner: None,
             sides: Vec::new(),
+            trusted: false,
         }
+    }
+
+    /// Skips the input checks of [`check_surface`]: for a surface that came out of an earlier
+    /// recovery (whose added points lie on the input surface only to rounding).
+    pub fn trusted_surface(mut self) -> Self {
+        self.trusted = true;
+        self
     }
 
     /// For the a-priori method: the side of the domain of each surface triangle (+1 along its
@@ -347,12 +358,18 @@ impl BoundaryRecovery3 {
         self
     }
 
-    /// Recovers the surface of `plc` and classifies the exterior.
+    /// Checks the surface ([`check_surface`]: closed, manifold, consistently oriented, free of
+    /// self-intersections), recovers it and classifies the exterior.
     ///
     /// # Errors
-    /// Invalid input, a surface that could not be recovered within the bound, or a domain with
-    /// no element inside.
+    /// A surface that fails the checks (naming the facets), a surface that could not be
+    /// recovered within the bound, or a domain with no element inside.
     pub fn run(&self, plc: &Plc3) -> Result<Mesh3, RecoveryError> {
+        let checked = if self.trusted {
+            None
+        } else {
+            Some(check_surface(plc)?)
+        };
         let n_input = plc.points.len();
         if let Some(i) = plc
             .points
@@ -379,7 +396,16 @@ impl BoundaryRecovery3 {
                     n_points: n_input,
                 });
             }
-            let side = |k: usize| self.sides.get(k).copied().unwrap_or(0.0);
+            let derived = match (&checked, self.sides.is_empty()) {
+                (Some(c), true) => domain_sides(c),
+                _ => Vec::new(),
+            };
+            let sides = if self.sides.is_empty() {
+                &derived
+            } else {
+                &self.sides
+            };
+            let side = |k: usize| sides.get(k).copied().unwrap_or(0.0);
             let (placed, rejected) =
                 a_priori_points(&plc.points, &self.extra_points, &plc.triangles, side);
             a_priori_rejected = rejected;
@@ -451,6 +477,24 @@ impl BoundaryRecovery3 {
             history,
         })
     }
+}
+
+/// The side of the domain of each surface triangle, by the nesting of the closed surfaces:
+/// just inside a surface at even depth (the far field, a hollow body's cavity wall) is domain,
+/// just inside one at odd depth (a body) is not. +1 is along the triangle's normal.
+fn domain_sides(c: &CheckedSurface) -> Vec<f64> {
+    c.triangle_component
+        .iter()
+        .map(|&k| {
+            let comp = &c.components[k as usize];
+            let inside = if comp.outward { -1.0 } else { 1.0 };
+            if comp.depth % 2 == 0 {
+                inside
+            } else {
+                -inside
+            }
+        })
+        .collect()
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {

@@ -21,7 +21,7 @@ use delmesh::mesh2d::{self, MeshOptions2, Spacing};
 use delmesh::mesh3d::{self, MeshOptions3};
 use delmesh::point_gen::{Adaptation, PointGeneration, PointGeneration3};
 use delmesh::recovery::{RecoveryMethod, RecoveryMethod3};
-use delmesh::smoothing::Smoother;
+use delmesh::smoothing::{Smoother, Smoother3};
 
 /// How many duplicate pairs the summary lists.
 const DUPLICATES_SHOWN: usize = 5;
@@ -450,6 +450,15 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
         },
         max_steiner_points: args.max_steiner,
         delaunay: !args.no_flips,
+        smoothing: if args.no_smoothing {
+            None
+        } else {
+            Some(
+                Smoother3::new()
+                    .omega(args.omega)?
+                    .iterations(args.iterations),
+            )
+        },
         ..MeshOptions3::default()
     };
     if let Some(path) = &args.points {

@@ -19,11 +19,12 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use delmesh_boundary_recovery::{
-    BoundaryRecovery3, Mesh3, MeshArrays3, Plc3, RecoveryHistory3, RecoveryMethod3, RecoveryStep,
-    RegionSeed3, SurfaceTriangle,
+    BoundaryRecovery3, Mesh3, MeshArrays3, Plc3, PolygonFacet, RecoveryHistory3, RecoveryMethod3,
+    RecoveryStep, RegionSeed3, SurfaceTriangle,
 };
 use delmesh_io::{SurfaceFile, TetMeshOut};
 use delmesh_point_gen::{GenerationReport3, PointGeneration3};
+use delmesh_smoothing::{QualityReport3, SmoothStats, Smoother3};
 
 use crate::Error;
 
@@ -38,6 +39,8 @@ pub struct MeshOptions3 {
     pub generation: Option<PointGeneration3>,
     /// Most points boundary recovery may add before it gives up (`None`: its default bound).
     pub max_steiner_points: Option<usize>,
+    /// Laplacian smoothing of the field points (`None`: no smoothing).
+    pub smoothing: Option<Smoother3>,
     /// At the end, triangulate the final points again and recover the refined surface, so the
     /// mesh is exactly Delaunay (see [`restore_delaunay`]).
     pub delaunay: bool,
@@ -50,6 +53,7 @@ impl Default for MeshOptions3 {
             extra_points: Vec::new(),
             generation: Some(PointGeneration3::default()),
             max_steiner_points: None,
+            smoothing: Some(Smoother3::new()),
             delaunay: true,
         }
     }
@@ -68,6 +72,12 @@ pub struct MeshRun3 {
     pub generation: Option<GenerationReport3>,
     /// The recovery history of the Delaunay restoration, if it ran.
     pub restoration: Option<RecoveryHistory3>,
+    /// What smoothing did, if it ran.
+    pub smoothing: Option<SmoothStats>,
+    /// Quality before smoothing (after point generation), if smoothing ran.
+    pub quality_before_smoothing: Option<QualityReport3>,
+    /// Quality of the final mesh.
+    pub quality: QualityReport3,
     /// Seconds spent in each stage, in order.
     pub timings: Vec<(&'static str, f64)>,
 }
@@ -101,20 +111,33 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
     };
     let recovery_history = mesh.history.clone();
     let mut arrays = mesh.to_arrays();
+    lap("output arrays", &mut timings);
+    let (mut smoothing, mut quality_before_smoothing) = (None, None);
+    if let (Some(smoother), true) = (&options.smoothing, generation.is_some()) {
+        quality_before_smoothing =
+            Some(QualityReport3::of_tetrahedra(&arrays.coords, &arrays.tets));
+        lap("quality", &mut timings);
+        smoothing = Some(smoother.smooth(&mut arrays.coords, &arrays.tets, &arrays.on_boundary)?);
+        lap("smoothing", &mut timings);
+    }
     let mut restoration = None;
     if options.delaunay && generation.is_some() {
         mesh = restore_delaunay(&arrays, plc, options.max_steiner_points)?;
         restoration = Some(mesh.history.clone());
-        lap("delaunay restoration", &mut timings);
         arrays = mesh.to_arrays();
+        lap("delaunay restoration", &mut timings);
     }
-    lap("output arrays", &mut timings);
+    let quality = QualityReport3::of_tetrahedra(&arrays.coords, &arrays.tets);
+    lap("quality", &mut timings);
     Ok(MeshRun3 {
         recovery: recovery_history,
         mesh,
         arrays,
         generation,
         restoration,
+        smoothing,
+        quality_before_smoothing,
+        quality,
         timings,
     })
 }
@@ -147,7 +170,7 @@ pub fn restore_delaunay(
         regions: plc.regions.clone(),
         first_index: plc.first_index,
     };
-    let mut recovery = BoundaryRecovery3::new(RecoveryMethod3::Conforming);
+    let mut recovery = BoundaryRecovery3::new(RecoveryMethod3::Conforming).trusted_surface();
     if let Some(n) = max_steiner_points {
         recovery = recovery.max_steiner_points(n);
     }
@@ -175,12 +198,19 @@ impl MeshRun3 {
                 r.face_points
             ));
         }
+        if let (Some(st), Some(q)) = (&self.smoothing, &self.quality_before_smoothing) {
+            s.push_str(&format!(
+                "smoothing: {st}\n  before: min dihedral {:.2}°, max {:.2}°, {} slivers under 5°\n",
+                q.min_dihedral, q.max_dihedral, q.slivers
+            ));
+        }
         s.push_str(&format!(
             "mesh: {} points, {} tetrahedra, {} boundary triangles\n",
             self.arrays.coords.len(),
             self.arrays.tets.len(),
             self.arrays.faces.len()
         ));
+        s.push_str(&format!("{}", self.quality));
         s.push_str("time per stage:\n");
         for (name, t) in &self.timings {
             s.push_str(&format!("  {name:<26} {t:.6} s\n"));
@@ -227,48 +257,35 @@ pub fn read_plc3(path: &Path) -> Result<Plc3, Error> {
 /// polygonal facets (with holes) are triangulated in their plane.
 ///
 /// # Errors
-/// A polygonal facet that is not planar or cannot be triangulated (named with its line).
+/// A polygonal facet that is not planar or cannot be triangulated (named in the file's
+/// numbering).
 pub fn plc3_from_surface(surface: &SurfaceFile, path: &Path) -> Result<Plc3, Error> {
-    let mut triangles = Vec::new();
-    for (k, facet) in surface.facets.iter().enumerate() {
-        for polygon in &facet.polygons {
-            match polygon.len() {
-                0..=2 => {} // TetGen allows points and segments in facets; they bound nothing.
-                3 if facet.polygons.len() == 1 => triangles.push(SurfaceTriangle {
-                    v: [polygon[0], polygon[1], polygon[2]],
-                    marker: facet.marker,
-                    facet: k as u32,
-                }),
-                n => {
-                    return Err(Error::Input {
-                        file: path.to_path_buf(),
-                        message: format!(
-                            "line {}: facet {} is a polygon of {n} corners; only triangles are \
-                             supported yet",
-                            facet.line,
-                            k + surface.first_index as usize
-                        ),
-                    })
-                }
-            }
-        }
-    }
-    Ok(Plc3 {
-        points: surface.points.clone(),
-        point_markers: surface.point_markers.clone().unwrap_or_default(),
-        triangles,
-        holes: surface.holes.clone(),
-        regions: surface
-            .regions
-            .iter()
-            .map(|r| RegionSeed3 {
-                point: r.point,
-                attribute: r.attribute,
-                max_volume: r.max_volume,
-            })
-            .collect(),
-        first_index: surface.first_index,
-    })
+    let facets: Vec<PolygonFacet> = surface
+        .facets
+        .iter()
+        .map(|f| PolygonFacet {
+            polygons: f.polygons.clone(),
+            holes: f.holes.clone(),
+            marker: f.marker,
+        })
+        .collect();
+    let mut plc = Plc3::from_polygon_facets(surface.points.clone(), &facets, surface.first_index)
+        .map_err(|e| Error::Input {
+        file: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    plc.point_markers = surface.point_markers.clone().unwrap_or_default();
+    plc.holes = surface.holes.clone();
+    plc.regions = surface
+        .regions
+        .iter()
+        .map(|r| RegionSeed3 {
+            point: r.point,
+            attribute: r.attribute,
+            max_volume: r.max_volume,
+        })
+        .collect();
+    Ok(plc)
 }
 
 impl MeshRun3 {
@@ -372,11 +389,15 @@ impl MeshRun3 {
             .collect::<Vec<_>>()
             .join(", ");
         format!(
-            "{{\n  \"points\": {},\n  \"tetrahedra\": {},\n  \"boundary_triangles\": {},\n  \"recovery\": {},\n  \"generation\": {generation},\n  \"restoration\": {restoration},\n  \"seconds\": {{{timings}}}\n}}\n",
+            "{{\n  \"points\": {},\n  \"tetrahedra\": {},\n  \"boundary_triangles\": {},\n  \"recovery\": {},\n  \"generation\": {generation},\n  \"restoration\": {restoration},\n  \"quality_before_smoothing\": {},\n  \"quality\": {},\n  \"seconds\": {{{timings}}}\n}}\n",
             self.arrays.coords.len(),
             self.arrays.tets.len(),
             self.arrays.faces.len(),
             history(&self.recovery),
+            self.quality_before_smoothing
+                .as_ref()
+                .map_or("null".to_string(), QualityReport3::to_json),
+            self.quality.to_json(),
         )
     }
 }

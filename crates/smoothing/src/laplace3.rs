@@ -287,11 +287,24 @@ impl Smoother3 {
 
         let classes = colour_classes(&star.neighbours, fixed);
         let mut stats = SmoothStats::default();
+        // A point is looked at again only once it or a neighbour has moved by more than the
+        // convergence threshold since it was last looked at: a refused or converged point whose
+        // surroundings did not change would be refused or converged again.
+        let mut dirty = vec![true; n];
+        let converged2 = CONVERGED * CONVERGED;
+        let mut work: Vec<u32> = Vec::new();
         for _ in 0..self.iterations {
             stats.passes += 1;
             let mut largest = 0.0f64;
+            let mut any = false;
             for class in &classes {
-                let moves: Vec<Move> = class
+                work.clear();
+                work.extend(class.iter().copied().filter(|&v| dirty[v as usize]));
+                if work.is_empty() {
+                    continue;
+                }
+                any = true;
+                let moves: Vec<Move> = work
                     .par_iter()
                     .map(|&v| {
                         let (mv, ratio) = self.propose(points, v as usize, &star, guard);
@@ -299,6 +312,7 @@ impl Smoother3 {
                     })
                     .collect();
                 for (v, mv, ratio) in moves {
+                    dirty[v as usize] = false;
                     match mv {
                         Some((y, halving)) => {
                             points[v as usize] = y;
@@ -308,13 +322,19 @@ impl Smoother3 {
                                 stats.reduced += 1;
                             }
                             largest = largest.max(ratio);
+                            if ratio >= converged2 {
+                                dirty[v as usize] = true;
+                                for &u in star.neighbours.row(v as usize) {
+                                    dirty[u as usize] = true;
+                                }
+                            }
                         }
                         None => stats.skipped += 1,
                     }
                 }
             }
             stats.last_displacement = largest.sqrt();
-            if stats.last_displacement < CONVERGED {
+            if !any || stats.last_displacement < CONVERGED {
                 break;
             }
         }
