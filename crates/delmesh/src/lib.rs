@@ -23,6 +23,7 @@ pub use delmesh_boundary_recovery as recovery;
 pub use delmesh_delaunay_core as core;
 pub use delmesh_io as io;
 pub use delmesh_point_gen as point_gen;
+pub use delmesh_predicates as predicates;
 pub use delmesh_smoothing as smoothing;
 
 pub use delmesh_delaunay_core::{

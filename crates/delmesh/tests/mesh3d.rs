@@ -1,0 +1,162 @@
+//! The 3D pipeline end to end on the demo surfaces: every output mesh has every tetrahedron
+//! positively oriented (exact), the volume the surface encloses (divergence theorem), every input
+//! facet covered by its boundary triangles, the Delaunay property (exact, protected faces
+//! waived), the Euler characteristic of its solid, and smoothing never inverts.
+
+use std::collections::HashMap;
+
+use delmesh::geometry3;
+use delmesh::mesh3d::{mesh_plc3, MeshOptions3, MeshRun3};
+use delmesh::point_gen::PointGeneration3;
+use delmesh::predicates::{orient3d, Sign};
+use delmesh::recovery::{check_surface, tet_volume, Plc3, RecoveryMethod3};
+
+fn area(p: [[f64; 3]; 3]) -> f64 {
+    let u = [0, 1, 2].map(|k| p[1][k] - p[0][k]);
+    let v = [0, 1, 2].map(|k| p[2][k] - p[0][k]);
+    let n = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
+    0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
+}
+
+/// Every property an output mesh must have; `chi` is the Euler characteristic of the solid
+/// (1 for a ball, 1 + k for a ball with k cavities).
+fn check(plc: &Plc3, run: &MeshRun3, chi: i64, delaunay: bool) {
+    let a = &run.arrays;
+    let mut volume = 0.0;
+    for t in &a.tets {
+        let p = t.map(|i| a.coords[i as usize]);
+        assert_eq!(orient3d(p[0], p[1], p[2], p[3]), Sign::Positive, "{t:?}");
+        volume += tet_volume(p[0], p[1], p[2], p[3]);
+    }
+    let enclosed = check_surface(plc).unwrap().domain_volume();
+    assert!(
+        (volume - enclosed).abs() <= 1e-9 * enclosed,
+        "volume {volume}, enclosed {enclosed}"
+    );
+    // Every input facet is the union of its boundary triangles.
+    let mut covered: HashMap<u32, f64> = HashMap::new();
+    for (t, &f) in a.faces.iter().zip(&a.face_facets) {
+        *covered.entry(f).or_default() += area(t.map(|i| a.coords[i as usize]));
+    }
+    let mut facet_area: HashMap<u32, f64> = HashMap::new();
+    for t in &plc.triangles {
+        *facet_area.entry(t.facet).or_default() += area(t.v.map(|i| plc.points[i as usize]));
+    }
+    for (f, want) in facet_area {
+        let got = covered.get(&f).copied().unwrap_or(0.0);
+        assert!(
+            (got - want).abs() <= 1e-9 * want,
+            "facet {f}: {got} vs {want}"
+        );
+    }
+    // Euler characteristic V − E + F − T of the solid.
+    let mut edges = std::collections::HashSet::new();
+    let mut faces = std::collections::HashSet::new();
+    for t in &a.tets {
+        for i in 0..4 {
+            for j in i + 1..4 {
+                edges.insert((t[i].min(t[j]), t[i].max(t[j])));
+            }
+            let mut f = [t[(i + 1) % 4], t[(i + 2) % 4], t[(i + 3) % 4]];
+            f.sort_unstable();
+            faces.insert(f);
+        }
+    }
+    let euler =
+        a.coords.len() as i64 - edges.len() as i64 + faces.len() as i64 - a.tets.len() as i64;
+    assert_eq!(euler, chi, "Euler characteristic");
+    if delaunay {
+        run.mesh
+            .ct
+            .validate()
+            .expect("Delaunay with protected faces waived");
+    } else {
+        run.mesh.ct.validate_structure().expect("valid structure");
+    }
+}
+
+fn options(alpha: f64) -> MeshOptions3 {
+    MeshOptions3 {
+        generation: Some(PointGeneration3 {
+            alpha,
+            ..PointGeneration3::default()
+        }),
+        ..MeshOptions3::default()
+    }
+}
+
+#[test]
+fn sphere_in_a_box() {
+    let plc = geometry3::sphere_in_box(3);
+    let run = mesh_plc3(&plc, &options(1.0)).unwrap();
+    assert!(run.generation.as_ref().unwrap().points_added() > 0);
+    check(&plc, &run, 2, true);
+}
+
+#[test]
+fn cube_with_a_cubic_hole_by_nesting_and_seed() {
+    let plc = geometry3::cube_with_cubic_hole(4);
+    let run = mesh_plc3(&plc, &options(1.0)).unwrap();
+    check(&plc, &run, 2, true);
+}
+
+#[test]
+fn two_bodies_a_priori() {
+    let plc = geometry3::two_bodies(2);
+    let run = mesh_plc3(
+        &plc,
+        &MeshOptions3 {
+            recovery: RecoveryMethod3::APriori,
+            ..options(1.0)
+        },
+    )
+    .unwrap();
+    assert!(run.recovery.a_priori_points > 0);
+    check(&plc, &run, 3, true);
+}
+
+#[test]
+fn double_ellipsoid_with_external_field_points() {
+    let plc = geometry3::double_ellipsoid(16);
+    let run = mesh_plc3(
+        &plc,
+        &MeshOptions3 {
+            generation: None,
+            extra_points: geometry3::double_ellipsoid_shells(16),
+            ..MeshOptions3::default()
+        },
+    )
+    .unwrap();
+    assert!(run.recovery.field_points > 0);
+    check(&plc, &run, 2, true);
+}
+
+#[test]
+fn smoothing_never_inverts_and_keeps_the_surface() {
+    let plc = geometry3::sphere_in_box(3);
+    let run = mesh_plc3(
+        &plc,
+        &MeshOptions3 {
+            delaunay: false,
+            ..options(0.8)
+        },
+    )
+    .unwrap();
+    let stats = run.smoothing.unwrap();
+    assert!(stats.moved + stats.reduced > 0, "{stats}");
+    check(&plc, &run, 2, false);
+}
+
+#[test]
+fn self_intersecting_surfaces_are_diagnosed() {
+    let mut plc = geometry3::sphere_in_box(2);
+    // A second sphere crossing the first.
+    let other = geometry3::icosphere([0.37, 0.11, 0.05], 0.9, 2, 3);
+    other.append_to(&mut plc);
+    let err = mesh_plc3(&plc, &options(1.0)).unwrap_err().to_string();
+    assert!(err.contains("intersect"), "{err}");
+}
