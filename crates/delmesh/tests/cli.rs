@@ -658,3 +658,122 @@ fn demo_figure8_writes_the_mesh_before_and_after_recovery() {
         assert!(dir.path().join("d").join(f).is_file(), "{f}: {err}");
     }
 }
+
+/// The surface of the unit cube, 2 triangles per side, counter-clockwise seen from outside, as
+/// OFF text.
+fn cube_off(scale: f64) -> String {
+    let mut s = String::from("OFF\n8 12 0\n");
+    for i in 0..8 {
+        let c = [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64];
+        s.push_str(&format!(
+            "{} {} {}\n",
+            c[0] * scale,
+            c[1] * scale,
+            c[2] * scale
+        ));
+    }
+    let quads = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    for q in quads {
+        s.push_str(&format!(
+            "3 {} {} {}\n3 {} {} {}\n",
+            q[0], q[1], q[2], q[0], q[2], q[3]
+        ));
+    }
+    s
+}
+
+#[test]
+fn mesh_a_surface_to_every_3d_format() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("cube.off"), cube_off(1.0)).unwrap();
+    let summary = ok(&delmesh(
+        dir.path(),
+        &[
+            "mesh",
+            "cube.off",
+            "-o",
+            "m.vtu",
+            "-o",
+            "m.ele",
+            "-o",
+            "m.msh",
+            "-o",
+            "m.mesh",
+            "-o",
+            "m.su2",
+            "--alpha",
+            "0.4",
+            "--report",
+            "r.json",
+            "--validate",
+        ],
+    ));
+    assert!(summary.contains("Edge recovery history"), "{summary}");
+    assert!(summary.contains("validation: ok"), "{summary}");
+    for f in [
+        "m.vtu",
+        "m.boundary.vtu",
+        "m.node",
+        "m.ele",
+        "m.face",
+        "m.msh",
+        "m.mesh",
+        "m.su2",
+        "r.json",
+    ] {
+        assert!(dir.path().join(f).exists(), "{f} missing; {summary}");
+    }
+    // The .ele header names the tetrahedra; the .face file the 12 input triangles' pieces.
+    let ele = std::fs::read_to_string(dir.path().join("m.ele")).unwrap();
+    let n_tets: usize = ele.split_whitespace().next().unwrap().parse().unwrap();
+    assert!(n_tets > 12, "{ele}");
+    let report = std::fs::read_to_string(dir.path().join("r.json")).unwrap();
+    assert!(report.contains("\"tetrahedra\": "), "{report}");
+    assert!(report.contains("\"slivers\""), "{report}");
+}
+
+#[test]
+fn mesh_3d_input_errors_name_the_file_and_facets() {
+    let dir = tempfile::tempdir().unwrap();
+    // An open surface: the cube without its last triangle.
+    let text = cube_off(1.0);
+    let open: String = text.replace("8 12 0", "8 11 0");
+    let open = open.lines().take(2 + 8 + 11).collect::<Vec<_>>().join("\n");
+    std::fs::write(dir.path().join("open.off"), open).unwrap();
+    let msg = fails(&delmesh(dir.path(), &["mesh", "open.off", "-o", "m.vtu"]));
+    assert!(
+        msg.contains("open.off") && msg.contains("not closed"),
+        "{msg}"
+    );
+    // A malformed file names its line.
+    std::fs::write(
+        dir.path().join("bad.off"),
+        "OFF\n3 1 0\n0 0 0\n1 0\n0 1 0\n3 0 1 2\n",
+    )
+    .unwrap();
+    let msg = fails(&delmesh(dir.path(), &["mesh", "bad.off", "-o", "m.vtu"]));
+    assert!(msg.contains("bad.off:4"), "{msg}");
+    // A 2D-only output format for a 3D input is refused before any work.
+    std::fs::write(dir.path().join("cube.off"), cube_off(1.0)).unwrap();
+    let msg = fails(&delmesh(dir.path(), &["mesh", "cube.off", "-o", "m.svg"]));
+    assert!(msg.contains("m.svg"), "{msg}");
+}
+
+#[test]
+fn demo_table2_prints_the_papers_table_beside_delmeshs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = delmesh(dir.path(), &["demo", "table2", "-o", "."]);
+    ok(&out);
+    let text = stdout(&out);
+    assert!(text.contains("Edge recovery history"), "{text}");
+    assert!(text.contains("surface points added"), "{text}");
+    assert!(text.contains("205"), "{text}");
+    assert!(dir.path().join("table2.vtu").exists());
+}
