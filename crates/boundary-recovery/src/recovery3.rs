@@ -32,7 +32,7 @@ use crate::apriori3::a_priori_points;
 use crate::classify3::{classify3, OUTSIDE};
 use crate::error::RecoveryError;
 use crate::plc3::Plc3;
-use crate::surface::{check_surface, CheckedSurface};
+use crate::surface::{check_surface, CheckedSurface, PointLocation};
 use delmesh_delaunay_core::{
     find_face_in, CellId, ConstrainedTriangulation2, ConstrainedTriangulation3, Insertion,
     StarSearch, Triangulation2, Triangulation3, VertexId,
@@ -100,6 +100,8 @@ pub struct RecoveryHistory3 {
     pub a_priori_points: usize,
     /// Surface triangles for which no a-priori point was found (APriori only).
     pub a_priori_rejected: usize,
+    /// Field points left out because they lie exactly on the surface.
+    pub field_points_on_surface: usize,
     /// Sub-segments at the end (surface edges of the mesh).
     pub final_surface_edges: usize,
     /// Sub-faces at the end (boundary triangles of the mesh).
@@ -125,6 +127,13 @@ impl fmt::Display for RecoveryHistory3 {
         writeln!(f, "INPUT DATA")?;
         row(f, "No. of surface points:", self.surface_points)?;
         row(f, "No. of field points:", self.field_points)?;
+        if self.field_points_on_surface > 0 {
+            row(
+                f,
+                "  left out, on the surface:",
+                self.field_points_on_surface,
+            )?;
+        }
         row(f, "No. of surface faces:", self.surface_faces)?;
         row(f, "No. of surface edges:", self.surface_edges)?;
         if self.method == RecoveryMethod3::APriori {
@@ -381,8 +390,20 @@ impl BoundaryRecovery3 {
                 point: i as u64 + u64::from(plc.first_index),
             });
         }
+        // Field points exactly on the surface would sit inside a surface triangle, which could
+        // then never be a face of the mesh: they are left out (and counted).
+        let extra: Vec<[f64; 3]> = match &checked {
+            Some(c) => self
+                .extra_points
+                .iter()
+                .copied()
+                .filter(|&p| !matches!(c.locate(p), Some(PointLocation::OnSurface { .. })))
+                .collect(),
+            None => self.extra_points.clone(),
+        };
+        let dropped_on_surface = self.extra_points.len() - extra.len();
         let mut points = plc.points.clone();
-        points.extend_from_slice(&self.extra_points);
+        points.extend_from_slice(&extra);
         let mut a_priori_rejected = 0;
         if self.method == RecoveryMethod3::APriori {
             if let Some(t) = plc
@@ -406,15 +427,14 @@ impl BoundaryRecovery3 {
                 &self.sides
             };
             let side = |k: usize| sides.get(k).copied().unwrap_or(0.0);
-            let (placed, rejected) =
-                a_priori_points(&plc.points, &self.extra_points, &plc.triangles, side);
+            let (placed, rejected) = a_priori_points(&plc.points, &extra, &plc.triangles, side);
             a_priori_rejected = rejected;
             points.extend(placed);
         }
         let tri = Triangulation3::new(&points)?;
         let mut state = State::new(tri, plc, self.max_steiner)?;
         // Vertices by where their point came from (duplicates merged).
-        let n_extra = self.extra_points.len();
+        let n_extra = extra.len();
         let from = |lo: usize, hi: usize| {
             (0..state.tri.num_vertices())
                 .filter(|&v| {
@@ -436,6 +456,7 @@ impl BoundaryRecovery3 {
             initial_tetrahedra: state.tri.num_cells(),
             a_priori_points: a_priori,
             a_priori_rejected,
+            field_points_on_surface: dropped_on_surface,
             ..Default::default()
         };
         state.recover(&mut history)?;

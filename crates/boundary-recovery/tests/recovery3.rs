@@ -359,3 +359,23 @@ fn a_priori_points_beside_every_face() {
     assert!(h.a_priori_points > plc.triangles.len() / 2, "{h}");
     println!("{h}");
 }
+
+#[test]
+fn field_points_on_the_surface_are_left_out() {
+    let (p, t) = box_surface([0.0; 3], [1.0; 3], 2, true);
+    let mut plc = Plc3::default();
+    add_surface(&mut plc, &p, &t, 1);
+    let field = vec![
+        [0.3, 0.4, 0.0],  // on a face
+        [1.0, 0.25, 0.5], // on an edge of a face's triangles
+        [0.5, 0.5, 0.5],  // inside
+        [0.2, 0.7, 0.6],  // inside
+    ];
+    let mesh = BoundaryRecovery3::default()
+        .with_points(field)
+        .run(&plc)
+        .unwrap();
+    assert_eq!(mesh.history.field_points_on_surface, 2, "{}", mesh.history);
+    assert_eq!(mesh.history.field_points, 2);
+    check(&plc, &mesh, 1.0);
+}

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use delmesh_boundary_recovery::RecoveryError;
 use delmesh_delaunay_core::TriangulationError;
 use delmesh_io::IoError;
-use delmesh_point_gen::{PointGenError, SpacingError};
+use delmesh_point_gen::{PointGenError, SpacingError, SpacingError3};
 use delmesh_smoothing::SmoothError;
 
 /// Everything that can go wrong in the `delmesh` library.
@@ -78,6 +78,14 @@ pub enum Error {
         file: PathBuf,
         /// What is wrong with it.
         source: SpacingError,
+    },
+    /// A 3D background mesh or solution file does not define a valid spacing field.
+    #[error("{file}: {source}", file = .file.display())]
+    Spacing3 {
+        /// The background mesh file.
+        file: PathBuf,
+        /// What is wrong with it.
+        source: SpacingError3,
     },
     /// A background or solution file lacks the point field asked for.
     #[error("{file}: no point field '{field}' (fields: {available})", file = .file.display())]
@@ -150,7 +158,9 @@ impl Error {
             | Error::Dimension { file, .. }
             | Error::Input { file, .. } => Some(file),
             Error::OverwritesInput { output, .. } => Some(output),
-            Error::Spacing { file, .. } | Error::MissingField { file, .. } => Some(file),
+            Error::Spacing { file, .. }
+            | Error::Spacing3 { file, .. }
+            | Error::MissingField { file, .. } => Some(file),
             Error::UnknownDemo { .. }
             | Error::Recovery(_)
             | Error::PointGeneration(_)

@@ -18,7 +18,7 @@ use delmesh::delaunay::{
 use delmesh::demos;
 use delmesh::io::AnyPoly;
 use delmesh::mesh2d::{self, MeshOptions2, Spacing};
-use delmesh::mesh3d::{self, MeshOptions3};
+use delmesh::mesh3d::{self, MeshOptions3, Spacing3};
 use delmesh::point_gen::{Adaptation, PointGeneration, PointGeneration3};
 use delmesh::recovery::{RecoveryMethod, RecoveryMethod3};
 use delmesh::smoothing::{Smoother, Smoother3};
@@ -432,14 +432,6 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
             );
         }
     }
-    for (flag, given) in [
-        ("--background", args.background.is_some()),
-        ("--adapt", args.adapt.is_some()),
-    ] {
-        if given {
-            anyhow::bail!("{flag} is not available for 3D meshes yet");
-        }
-    }
     let mut options = MeshOptions3 {
         recovery: match args.recovery {
             RecoveryArg::Stitch => RecoveryMethod3::Conforming,
@@ -476,6 +468,21 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
         max_points: args.max_points.unwrap_or(usize::MAX),
         ..PointGeneration3::default()
     });
+    if let Some(path) = &args.background {
+        options.spacing =
+            Spacing3::Background(mesh3d::read_background3(path, args.field.as_deref())?);
+    }
+    if let Some(path) = &args.adapt {
+        let field = args
+            .field
+            .as_deref()
+            .ok_or_else(|| anyhow::anyhow!("--adapt needs --field NAME (the solution field)"))?;
+        let adaptation = Adaptation::new(
+            args.min_spacing.unwrap_or_default(),
+            args.max_spacing.unwrap_or_default(),
+        );
+        options.spacing = Spacing3::Background(mesh3d::read_adaptation3(path, field, &adaptation)?);
+    }
     let run = mesh3d::mesh_plc3(&plc, &options)
         .map_err(|e| anyhow::anyhow!("{}: {}", args.input.display(), e))?;
     let total: f64 = run.timings.iter().map(|t| t.1).sum();

@@ -23,10 +23,23 @@ use delmesh_boundary_recovery::{
     RecoveryStep, RegionSeed3, SurfaceTriangle,
 };
 use delmesh_io::{SurfaceFile, TetMeshOut};
-use delmesh_point_gen::{GenerationReport3, PointGeneration3};
+use delmesh_point_gen::{
+    Adaptation, BackgroundMesh3, GenerationReport3, PointGeneration3, Source3, SpacingField3,
+};
 use delmesh_smoothing::{QualityReport3, SmoothStats, Smoother3};
 
 use crate::Error;
+
+/// Where the spacing of 3D point generation comes from.
+#[derive(Clone, Debug, Default)]
+pub enum Spacing3 {
+    /// Interpolated from the surface spacing (the paper's default, R10).
+    #[default]
+    Boundary,
+    /// From a background mesh whose nodes carry spacing values (R11), e.g. made from a previous
+    /// solution ([`read_adaptation3`]).
+    Background(BackgroundMesh3),
+}
 
 /// Options of the 3D pipeline; `Default` is the paper's method with its usual parameters.
 #[derive(Clone, Debug)]
@@ -37,6 +50,10 @@ pub struct MeshOptions3 {
     pub extra_points: Vec<[f64; 3]>,
     /// Automatic point generation (`None`: the surface and extra points only).
     pub generation: Option<PointGeneration3>,
+    /// The spacing field's base.
+    pub spacing: Spacing3,
+    /// Analytic sources refining the spacing.
+    pub sources: Vec<Source3>,
     /// Most points boundary recovery may add before it gives up (`None`: its default bound).
     pub max_steiner_points: Option<usize>,
     /// Laplacian smoothing of the field points (`None`: no smoothing).
@@ -52,6 +69,8 @@ impl Default for MeshOptions3 {
             recovery: RecoveryMethod3::Conforming,
             extra_points: Vec::new(),
             generation: Some(PointGeneration3::default()),
+            spacing: Spacing3::Boundary,
+            sources: Vec::new(),
             max_steiner_points: None,
             smoothing: Some(Smoother3::new()),
             delaunay: true,
@@ -103,7 +122,14 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
     lap("boundary recovery", &mut timings);
     let generation = match &options.generation {
         Some(settings) => {
-            let report = settings.run(&mut mesh, |_, from_nodes| from_nodes)?;
+            let mut field = match &options.spacing {
+                Spacing3::Boundary => SpacingField3::boundary(),
+                Spacing3::Background(bg) => SpacingField3::background(bg.clone()),
+            };
+            for s in &options.sources {
+                field = field.with_source(s.clone());
+            }
+            let report = settings.run(&mut mesh, |p, from_nodes| field.spacing(p, from_nodes))?;
             lap("point generation", &mut timings);
             Some(report)
         }
@@ -309,7 +335,37 @@ impl MeshRun3 {
             marker_names: &[],
         };
         match extension(out).as_str() {
-            "vtu" | "ele" | "node" | "face" | "msh" | "mesh" | "su2" => {
+            "vtu" => {
+                let spacing: Vec<f64> = a
+                    .vertex
+                    .iter()
+                    .map(|v| {
+                        self.mesh
+                            .spacing
+                            .get(v.index())
+                            .copied()
+                            .unwrap_or(f64::NAN)
+                    })
+                    .collect();
+                let spacing = if spacing.iter().all(|h| h.is_finite()) {
+                    spacing
+                } else {
+                    Vec::new()
+                };
+                let point_data: Vec<(&str, &[f64])> = if spacing.is_empty() {
+                    Vec::new()
+                } else {
+                    vec![("spacing", &spacing)]
+                };
+                let dihedral = min_dihedrals(a);
+                Ok(delmesh_io::write_tet_mesh_vtu_with(
+                    out,
+                    &mesh,
+                    &point_data,
+                    &[("min_dihedral", &dihedral)],
+                )?)
+            }
+            "ele" | "node" | "face" | "msh" | "mesh" | "su2" => {
                 Ok(delmesh_io::write_tet_mesh(out, &mesh)?)
             }
             ext => Err(Error::UnsupportedFormat {
@@ -400,4 +456,116 @@ impl MeshRun3 {
             self.quality.to_json(),
         )
     }
+}
+
+/// Reads a 3D background mesh for [`Spacing3::Background`]: a `.vtu` of tetrahedra with the
+/// point field `field` (default `spacing`).
+///
+/// # Errors
+/// The file cannot be read, is not 3D, has no such field, or its values are not valid spacings.
+pub fn read_background3(path: &Path, field: Option<&str>) -> Result<BackgroundMesh3, Error> {
+    let (points, tets, values) = read_field3(path, field.unwrap_or("spacing"))?;
+    BackgroundMesh3::new(points, tets, values).map_err(|e| Error::Spacing3 {
+        file: path.to_path_buf(),
+        source: e,
+    })
+}
+
+/// Reads a previous 3D mesh (`.vtu`) and turns its point field `field` (e.g. Mach or pressure)
+/// into spacing by its gradient: mesh adaptation (R11).
+///
+/// # Errors
+/// As [`read_background3`].
+pub fn read_adaptation3(
+    path: &Path,
+    field: &str,
+    adaptation: &Adaptation,
+) -> Result<BackgroundMesh3, Error> {
+    let (points, tets, values) = read_field3(path, field)?;
+    BackgroundMesh3::from_solution(points, tets, &values, adaptation).map_err(|e| Error::Spacing3 {
+        file: path.to_path_buf(),
+        source: e,
+    })
+}
+
+type FieldData3 = (Vec<[f64; 3]>, Vec<[u32; 4]>, Vec<f64>);
+
+fn read_field3(path: &Path, field: &str) -> Result<FieldData3, Error> {
+    if extension(path) != "vtu" {
+        return Err(Error::UnsupportedFormat {
+            file: path.to_path_buf(),
+            ext: format!(".{}", extension(path)),
+            supported: ".vtu",
+        });
+    }
+    let mesh = delmesh_io::read_vtu(path)?;
+    if mesh.dim != 3 {
+        return Err(Error::Dimension {
+            file: path.to_path_buf(),
+            dim: mesh.dim,
+        });
+    }
+    let Some((_, values)) = mesh.point_fields.iter().find(|(n, _)| n == field) else {
+        let names: Vec<&str> = mesh.point_fields.iter().map(|(n, _)| n.as_str()).collect();
+        return Err(Error::MissingField {
+            file: path.to_path_buf(),
+            field: field.to_string(),
+            available: if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(", ")
+            },
+        });
+    };
+    let points = mesh
+        .coords
+        .chunks_exact(3)
+        .map(|p| [p[0], p[1], p[2]])
+        .collect();
+    let tets = mesh
+        .cells
+        .chunks_exact(4)
+        .map(|t| [t[0], t[1], t[2], t[3]])
+        .collect();
+    Ok((points, tets, values.clone()))
+}
+
+/// The smallest dihedral angle of each tetrahedron, in degrees (a cell field for `.vtu`).
+fn min_dihedrals(a: &MeshArrays3) -> Vec<f64> {
+    a.tets
+        .iter()
+        .map(|t| {
+            let p = t.map(|v| a.coords[v as usize]);
+            let normal = |i: usize, j: usize, k: usize| {
+                let u = [0, 1, 2].map(|c| p[j][c] - p[i][c]);
+                let w = [0, 1, 2].map(|c| p[k][c] - p[i][c]);
+                let n = [
+                    u[1] * w[2] - u[2] * w[1],
+                    u[2] * w[0] - u[0] * w[2],
+                    u[0] * w[1] - u[1] * w[0],
+                ];
+                let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+                n.map(|x| x / l)
+            };
+            // Outward normals of the faces opposite vertices 0..3.
+            let n = [
+                normal(1, 2, 3),
+                normal(0, 3, 2),
+                normal(0, 1, 3),
+                normal(0, 2, 1),
+            ];
+            let mut smallest = 180.0f64;
+            for i in 0..4 {
+                for j in i + 1..4 {
+                    let c = -(n[i][0] * n[j][0] + n[i][1] * n[j][1] + n[i][2] * n[j][2]);
+                    smallest = smallest.min(c.clamp(-1.0, 1.0).acos().to_degrees());
+                }
+            }
+            if smallest.is_finite() {
+                smallest
+            } else {
+                0.0
+            }
+        })
+        .collect()
 }

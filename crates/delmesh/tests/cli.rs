@@ -777,3 +777,86 @@ fn demo_table2_prints_the_papers_table_beside_delmeshs() {
     assert!(text.contains("205"), "{text}");
     assert!(dir.path().join("table2.vtu").exists());
 }
+
+#[test]
+fn mesh_3d_with_a_background_mesh_and_adaptation() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("cube.off"), cube_off(1.0)).unwrap();
+    // A coarse background of the cube: 6 tetrahedra around the diagonal 0-7, spacing fine at
+    // x = 0 and coarse at x = 1; the same values as a "mach" field for adaptation.
+    let corners: Vec<f64> = (0..8)
+        .flat_map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
+        .collect();
+    let tets: Vec<u32> = vec![
+        0, 1, 3, 7, 0, 3, 2, 7, 0, 2, 6, 7, 0, 6, 4, 7, 0, 4, 5, 7, 0, 5, 1, 7,
+    ];
+    let spacing: Vec<f64> = (0..8)
+        .map(|i| if i & 1 == 0 { 0.12 } else { 0.6 })
+        .collect();
+    let mach: Vec<f64> = (0..8).map(|i| if i & 1 == 0 { 0.5 } else { 3.0 }).collect();
+    let mesh = delmesh::io::SimplexMesh {
+        dim: 3,
+        coords: &corners,
+        cells: &tets,
+        neighbors: None,
+    };
+    delmesh::io::write_vtu(
+        &dir.path().join("bg.vtu"),
+        &mesh,
+        &[("spacing", &spacing), ("mach", &mach)],
+        &[],
+    )
+    .unwrap();
+    let count_left = |file: &str| {
+        let m = delmesh::io::read_vtu(&dir.path().join(file)).unwrap();
+        let xs: Vec<f64> = m.coords.chunks(3).map(|p| p[0]).collect();
+        (xs.iter().filter(|&&x| x < 0.5).count(), xs.len())
+    };
+    ok(&delmesh(
+        dir.path(),
+        &[
+            "mesh",
+            "cube.off",
+            "--background",
+            "bg.vtu",
+            "-o",
+            "bg-out.vtu",
+        ],
+    ));
+    let (left, all) = count_left("bg-out.vtu");
+    assert!(
+        2 * left > all + all / 5,
+        "{left} of {all} points at x < 0.5"
+    );
+    ok(&delmesh(
+        dir.path(),
+        &[
+            "mesh",
+            "cube.off",
+            "--adapt",
+            "bg.vtu",
+            "--field",
+            "mach",
+            "--min-spacing",
+            "0.1",
+            "--max-spacing",
+            "0.5",
+            "-o",
+            "ad.vtu",
+        ],
+    ));
+    let msg = fails(&delmesh(
+        dir.path(),
+        &[
+            "mesh",
+            "cube.off",
+            "--background",
+            "bg.vtu",
+            "--field",
+            "nope",
+            "-o",
+            "x.vtu",
+        ],
+    ));
+    assert!(msg.contains("nope") && msg.contains("bg.vtu"), "{msg}");
+}

@@ -93,5 +93,7 @@ pub use tetgen_plc::{
 };
 pub use tetmesh::{write_tet_mesh, TetMeshOut};
 pub use triangle::{read_triangle_mesh, write_triangle_family, TriangleMeshOut};
-pub use vtu::{read_vtu, write_tet_mesh_vtu, write_vtu, write_vtu_polygons, FieldMesh};
+pub use vtu::{
+    read_vtu, write_tet_mesh_vtu, write_tet_mesh_vtu_with, write_vtu, write_vtu_polygons, FieldMesh,
+};
 pub use xyz::{parse_xyz, read_points, read_xyz};

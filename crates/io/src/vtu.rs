@@ -255,19 +255,35 @@ pub fn write_vtu_polygons(
 /// `path` without a `.vtu` extension. Markers are `Int32`, regions `Float64`. Returns the two
 /// paths. Everything is checked before the first file is written; each file is atomic.
 pub fn write_tet_mesh_vtu(path: &Path, mesh: &TetMeshOut<'_>) -> Result<Vec<PathBuf>, IoError> {
+    write_tet_mesh_vtu_with(path, mesh, &[], &[])
+}
+
+/// [`write_tet_mesh_vtu`] with extra scalar fields: `point_data` on the points of both files,
+/// `cell_data` (one value per tetrahedron) on the tetrahedra.
+///
+/// # Errors
+/// As [`write_tet_mesh_vtu`], or a field of the wrong length or with a non-finite value.
+pub fn write_tet_mesh_vtu_with(
+    path: &Path,
+    mesh: &TetMeshOut<'_>,
+    point_data: &[(&str, &[f64])],
+    cell_data: &[(&str, &[f64])],
+) -> Result<Vec<PathBuf>, IoError> {
     mesh.check(path)?;
     let volume = sibling(path, &["vtu"], "vtu");
     let boundary = sibling(path, &["vtu"], "boundary.vtu");
     let points: Vec<f64> = mesh.coords.iter().flatten().copied().collect();
-    let point_attrs: Vec<Attribute> = mesh
+    let mut point_attrs: Vec<Attribute> = mesh
         .point_markers
         .map(|m| int_field("marker", m))
         .into_iter()
         .collect();
-    let cell_attrs = match mesh.regions {
+    point_attrs.extend(fields(path, "point", point_data, mesh.coords.len())?);
+    let mut cell_attrs = match mesh.regions {
         Some(r) => fields(path, "cell", &[("region", r)], mesh.tets.len())?,
         None => Vec::new(),
     };
+    cell_attrs.extend(fields(path, "cell", cell_data, mesh.tets.len())?);
     let piece = UnstructuredGridPiece {
         points: IOBuffer::F64(points.clone()),
         cells: fixed_cells(mesh.tets.iter().flatten(), 4, CellType::Tetra),

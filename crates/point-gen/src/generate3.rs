@@ -113,6 +113,11 @@ impl PointGeneration3 {
             return Err(PointGenError::BadAlpha(self.alpha));
         }
         let mut dp = node_spacing3(mesh, &spacing)?;
+        let largest = (0..mesh.ct.triangulation().num_vertices())
+            .map(|v| mesh.ct.triangulation().vertex(VertexId(v as u32)))
+            .flatten()
+            .fold(0.0f64, |m, c| m.max(c.abs()));
+        let tiny = largest * 2f64.powi(-100);
         let mut report = GenerationReport3::default();
         let mut added = 0usize;
         let mut cells: Vec<CellId> = mesh.elements().collect();
@@ -147,6 +152,12 @@ impl PointGeneration3 {
                         + (q[2] - g[2]) * (q[2] - g[2])
                 };
                 if p.iter().any(|&q| dist2(q) <= reach2) {
+                    continue;
+                }
+                if g.iter().any(|&x| x != 0.0 && x.abs() < tiny) {
+                    // Beyond the exact range of the triangulation (a centroid creeping onto a
+                    // zero coordinate): not a point worth adding.
+                    refused += 1;
                     continue;
                 }
                 let inserted = mesh.ct.insert_if(g, c, |ct, cell| {

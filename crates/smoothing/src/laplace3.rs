@@ -133,6 +133,8 @@ struct Star {
     /// For each point, the face opposite it in each of its tetrahedra, ordered so that
     /// `orient3d(point, face…)` is positive.
     faces: Rows<[u32; 3]>,
+    /// Non-zero coordinate magnitudes below this are refused (see `relax`).
+    tiny: f64,
 }
 
 impl Smoother3 {
@@ -282,7 +284,16 @@ impl Smoother3 {
             }
         }
         let neighbours = Rows::build(n, pairs.iter().copied());
-        let star = Star { neighbours, faces };
+        // Coordinates this much smaller than the largest are beyond what a triangulation of the
+        // points can represent exactly (they are only reached by creeping towards a zero
+        // coordinate): a move that makes one is refused.
+        let largest = points.iter().flatten().fold(0.0f64, |m, &c| m.max(c.abs()));
+        let tiny = largest * 2f64.powi(-100);
+        let star = Star {
+            neighbours,
+            faces,
+            tiny,
+        };
         let guard = Guard::from(self.guard);
 
         let classes = colour_classes(&star.neighbours, fixed);
@@ -374,6 +385,10 @@ impl Smoother3 {
             let y = [x[0] + step[0], x[1] + step[1], x[2] + step[2]];
             if y == x {
                 return (Some((x, halving)), 0.0);
+            }
+            if y.iter().any(|&c| c != 0.0 && c.abs() < star.tiny) {
+                step = step.map(|c| 0.5 * c);
+                continue;
             }
             let mut accepts = |f: &[u32; 3]| {
                 let [a, b, c] = face_points(f);
