@@ -73,10 +73,11 @@ commands:
                                   3D meshes of closed surfaces (CGAL's example meshes,
                                   installed from Debian's libcgal-demo when missing, and
                                   generated ones): `delmesh mesh --no-points` vs `tetgen
-                                  -pQ` (surface recovery), `delmesh mesh` vs `tetgen -pqQ`
-                                  (quality mesh); checks delmesh's meshes exactly, prints
-                                  Markdown tables (also written to FILE.md); NAME is a
-                                  case (elephant, sphere-in-box); `--quick`: a small subset
+                                  -pQ` and `-pMQ` (surface recovery), `delmesh mesh` vs
+                                  `tetgen -pqQ` (quality mesh); checks delmesh's meshes
+                                  exactly, prints Markdown tables (also written to
+                                  FILE.md); NAME is a case (elephant, sphere-in-box; an
+                                  unknown NAME lists them); `--quick`: a small subset
   gen [--out DIR] CASE...         write the cases' .node files (default DIR target/xtask/cases)
   cases                           list the case families and their sizes
   help                            this text

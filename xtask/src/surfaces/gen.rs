@@ -379,7 +379,8 @@ mod tests {
         let b = box_grid([0.0; 3], [1.0; 3], [2, 3, 4]);
         // 2 (xy + yz + zx) squares, two triangles each.
         assert_eq!(b.triangles.len(), 4 * (2 * 3 + 3 * 4 + 4 * 2));
-        assert_eq!(b.points.len(), 3 * 4 * 5 - 1 * 2 * 3);
+        // The lattice's 3 x 4 x 5 points minus its 1 x 2 x 3 interior ones.
+        assert_eq!(b.points.len(), 3 * 4 * 5 - 2 * 3);
         assert_eq!(icosphere([0.0; 3], 1.0, 2).triangles.len(), 320);
         let s = generate("near-coplanar").unwrap();
         let moved = s

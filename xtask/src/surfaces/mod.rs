@@ -6,7 +6,10 @@
 //!
 //! 1. recovery only: `delmesh mesh X.off --no-points -o X.ele --report X.json` against
 //!    `tetgen -pQ X.off` (`-p`: tetrahedralize the surface, recovering it with Steiner
-//!    points where needed; `-Q`: quiet);
+//!    points where needed; `-Q`: quiet) and `tetgen -pMQ X.off` (`-M`: do not merge
+//!    coplanar facets; by default TetGen merges facets coplanar within 1e-8 and
+//!    re-triangulates them, an easier problem than recovering every input triangle, and
+//!    one that moves nearly coplanar facets, which the checks below show);
 //! 2. the full pipeline: `delmesh mesh X.off -o X.ele --report X.json` against
 //!    `tetgen -pqQ X.off` (`-q`: quality mesh, radius-edge ratio bound 2);
 //! 3. checks on delmesh's outputs (`mesh::check_mesh`: exact orientation, volume, coverage
