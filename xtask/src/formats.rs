@@ -272,7 +272,7 @@ fn int_fields(line: &[u8], out: &mut Vec<i64>) -> Result<(), String> {
 }
 
 /// Iterates the lines of `bytes` that hold numbers, as (1-based line number, numbers).
-fn int_lines<'a>(
+pub(crate) fn int_lines<'a>(
     bytes: &'a [u8],
     path: &'a Path,
 ) -> impl Iterator<Item = Result<(usize, Vec<i64>)>> + 'a {

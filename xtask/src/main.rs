@@ -13,13 +13,21 @@
 //!   tools alone.
 //! - `cdt [--quick]`: delmesh's Steiner-free 2D mesh of seeded polygons with holes against
 //!   CGAL's constrained Delaunay triangulation (identical triangles required), with times.
+//! - `surfaces [--quick] [--only NAME]... [--report FILE.md]`: delmesh's 3D meshes of
+//!   closed surfaces (CGAL's example meshes, unpacked from Debian's `libcgal-demo`, and
+//!   generated ones) next to TetGen's: surface recovery alone and the full pipeline,
+//!   with exact checks of delmesh's meshes and a quality summary of both tools' (see
+//!   `surfaces`). `--quick` is the CI variant.
 //! - `gen [--out DIR] CASE...`: just write the cases' `.node` files.
 //! - `cases`: list the case families.
 //!
 //! Where external output is parsed: `reference` (CGAL driver's stdout, TetGen's
 //! stdout and files, GNU time's report), `delmesh` (delmesh's stderr), `formats`
-//! (`.node`, `.ele`, `.cells` files); each place is marked "FORMAT:".
-//! Arguments are parsed by hand to keep the dependencies at `anyhow` alone.
+//! (`.node`, `.ele`, `.cells` files), `surfaces` (`.off` files, TetGen's and delmesh's
+//! `.node/.ele/.face` meshes, delmesh's JSON report, `tetgen -pd`, GNU time `-v`); each
+//! place is marked "FORMAT:".
+//! Arguments are parsed by hand to keep the dependencies small (`anyhow`, and `robust`
+//! for exact orientation tests).
 
 mod cases;
 mod delmesh;
@@ -28,6 +36,7 @@ mod formats;
 mod plc;
 mod reference;
 mod report;
+mod surfaces;
 mod validate;
 
 use std::path::{Path, PathBuf};
@@ -60,6 +69,15 @@ commands:
   cdt [--quick]                   2D constrained Delaunay meshes of seeded polygons with
                                   holes (and free points): delmesh's triangles must equal
                                   CGAL's; prints both tools' times
+  surfaces [--quick] [--only NAME]... [--report FILE.md]
+                                  3D meshes of closed surfaces (CGAL's example meshes,
+                                  installed from Debian's libcgal-demo when missing, and
+                                  generated ones): `delmesh mesh --no-points` vs `tetgen
+                                  -pQ` and `-pMQ` (surface recovery), `delmesh mesh` vs
+                                  `tetgen -pqQ` (quality mesh); checks delmesh's meshes
+                                  exactly, prints Markdown tables (also written to
+                                  FILE.md); NAME is a case (elephant, sphere-in-box; an
+                                  unknown NAME lists them); `--quick`: a small subset
   gen [--out DIR] CASE...         write the cases' .node files (default DIR target/xtask/cases)
   cases                           list the case families and their sizes
   help                            this text
@@ -127,6 +145,16 @@ fn run() -> Result<()> {
         "validate" => {
             let opts = parse_validate_args(rest, command)?;
             validate::validate(&ctx, &opts)
+        }
+        "surfaces" => {
+            let (quick, only, report) = parse_run_args("surfaces", rest)?;
+            let opts = surfaces::SurfacesOptions {
+                quick,
+                only,
+                report,
+                command,
+            };
+            surfaces::surfaces(&ctx, &opts)
         }
         "bench" => {
             let (report, rest) = take_option(rest, "--report")?;
@@ -216,12 +244,20 @@ fn take_option(args: &[String], name: &str) -> Result<(Option<String>, Vec<Strin
 /// Arguments of `validate`: `--quick`, `--only NAME` (repeatable), `--report FILE`
 /// (`--opt=VALUE` works too).
 fn parse_validate_args(args: &[String], command: String) -> Result<validate::ValidateOptions> {
-    let mut opts = validate::ValidateOptions {
-        quick: false,
-        only: Vec::new(),
-        report: None,
+    let (quick, only, report) = parse_run_args("validate", args)?;
+    Ok(validate::ValidateOptions {
+        quick,
+        only,
+        report,
         command,
-    };
+    })
+}
+
+/// The arguments `validate` and `surfaces` share: `--quick`, `--only NAME`
+/// (repeatable), `--report FILE` (`--opt=VALUE` works too); `cmd` names the command in
+/// errors.
+fn parse_run_args(cmd: &str, args: &[String]) -> Result<(bool, Vec<String>, Option<PathBuf>)> {
+    let (mut quick, mut only, mut report) = (false, Vec::new(), None);
     let mut it = args.iter();
     while let Some(a) = it.next() {
         let (key, inline) = match a.split_once('=') {
@@ -235,13 +271,13 @@ fn parse_validate_args(args: &[String], command: String) -> Result<validate::Val
                 .with_context(|| format!("{key} needs a value"))
         };
         match key {
-            "--quick" if inline.is_none() => opts.quick = true,
-            "--only" => opts.only.push(value()?),
-            "--report" => opts.report = Some(PathBuf::from(value()?)),
-            _ => bail!("validate: unknown argument `{a}`\n{HELP}"),
+            "--quick" if inline.is_none() => quick = true,
+            "--only" => only.push(value()?),
+            "--report" => report = Some(PathBuf::from(value()?)),
+            _ => bail!("{cmd}: unknown argument `{a}`\n{HELP}"),
         }
     }
-    Ok(opts)
+    Ok((quick, only, report))
 }
 
 /// `cargo xtask <args>`, quoted for a POSIX shell where needed: the exact command
@@ -546,6 +582,32 @@ mod tests {
                 "{bad:?}"
             );
         }
+    }
+
+    #[test]
+    fn surfaces_arguments() {
+        let args = |a: &[&str]| -> Vec<String> { a.iter().map(|s| s.to_string()).collect() };
+        let (quick, only, report) = parse_run_args(
+            "surfaces",
+            &args(&[
+                "--only=elephant",
+                "--quick",
+                "--only",
+                "cow",
+                "--report=s.md",
+            ]),
+        )
+        .unwrap();
+        assert!(quick);
+        assert_eq!(only, ["elephant", "cow"]);
+        assert_eq!(report, Some(PathBuf::from("s.md")));
+        let err = parse_run_args("surfaces", &args(&["--fast"]))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.starts_with("surfaces: unknown argument `--fast`"),
+            "{err}"
+        );
     }
 
     #[test]

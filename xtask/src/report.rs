@@ -65,6 +65,23 @@ fn first_line(program: &str, args: &[&str], dir: &Path) -> Option<String> {
 /// Markdown lines describing where and with what a table was produced: the exact
 /// command, the commit, the CPU and core count, the tool versions, and the load.
 pub fn environment(root: &Path, command: &str, load_before: &str) -> String {
+    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    let threads = std::env::var("RAYON_NUM_THREADS")
+        .map(|t| format!("RAYON_NUM_THREADS={t}"))
+        .unwrap_or_else(|_| format!("all {cores} cores (RAYON_NUM_THREADS unset)"));
+    format!(
+        "{}\n\
+         Tools: CGAL {} (Debian libcgal-dev, EPICK kernel, range insertion), TetGen {} \
+         (Debian tetgen, `tetgen -NF`), delmesh threads: {threads}\n",
+        machine(root, command, load_before),
+        package_version("libcgal-dev", root),
+        package_version("tetgen", root),
+    )
+}
+
+/// The command, commit, machine and load lines of [`environment`], for tables that
+/// describe their tools themselves.
+pub fn machine(root: &Path, command: &str, load_before: &str) -> String {
     let commit = first_line("git", &["rev-parse", "--short", "HEAD"], root)
         .map(|c| {
             let dirty = first_line("git", &["status", "--porcelain"], root).is_some();
@@ -84,24 +101,19 @@ pub fn environment(root: &Path, command: &str, load_before: &str) -> String {
         })
         .unwrap_or_else(|| "?".into());
     let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
-    // FORMAT: dpkg-query prints the installed version, e.g. `5.5.1-2`.
-    let version = |pkg: &str| {
-        first_line("dpkg-query", &["-W", "-f", "${Version}\\n", pkg], root)
-            .unwrap_or_else(|| "?".into())
-    };
-    let threads = std::env::var("RAYON_NUM_THREADS")
-        .map(|t| format!("RAYON_NUM_THREADS={t}"))
-        .unwrap_or_else(|_| format!("all {cores} cores (RAYON_NUM_THREADS unset)"));
     format!(
         "Command: `{command}` (delmesh at {commit})\n\n\
          Machine: {cpu}, {cores} cores; load average (1/5/15 min) before: {load_before}, \
-         after: {}\n\n\
-         Tools: CGAL {} (Debian libcgal-dev, EPICK kernel, range insertion), TetGen {} \
-         (Debian tetgen, `tetgen -NF`), delmesh threads: {threads}\n",
+         after: {}\n",
         load_average(),
-        version("libcgal-dev"),
-        version("tetgen"),
     )
+}
+
+/// The installed version of a Debian package, `?` when unknown.
+pub fn package_version(pkg: &str, root: &Path) -> String {
+    // FORMAT: dpkg-query prints the installed version, e.g. `5.5.1-2`.
+    first_line("dpkg-query", &["-W", "-f", "${Version}\\n", pkg], root)
+        .unwrap_or_else(|| "?".into())
 }
 
 #[cfg(test)]
