@@ -190,8 +190,14 @@ mod tests {
         let (up, none) = a_priori_points(&points, &[], &t, |_| 1.0);
         assert_eq!((up.len(), none), (1, 0));
         assert!(up[0][2] > 0.0);
-        // A point just above the face blocks that side; the other side is free.
-        let (down, _) = a_priori_points(&points, &[[0.3, 0.3, 0.2]], &t, |_| 0.0);
+        // A point above the face pushes that side's point lower; the other side is free.
+        let blocker = [[0.3, 0.3, 0.6]];
+        let (lower, _) = a_priori_points(&points, &blocker, &t, |_| 1.0);
+        assert!(
+            lower[0][2] > 0.0 && lower[0][2] < 0.99 * up[0][2],
+            "{lower:?} {up:?}"
+        );
+        let (down, _) = a_priori_points(&points, &blocker, &t, |_| 0.0);
         assert!(down[0][2] < 0.0);
     }
 }
