@@ -679,7 +679,9 @@ fn judge(o: &mut Outcome) {
                      intersecting facets",
                     dm.tets.unwrap_or(0)
                 ));
-            } else if !tools::names_intersection(&msg) || !names_them {
+            } else if !(tools::names_intersection(&msg) && names_them
+                || tools::names_touching_sheets(&msg))
+            {
                 o.failures.push(format!(
                     "{name}: the surface intersects itself (tetgen -pd: {pairs} pairs); delmesh \
                      failed ({}, {} s) without a diagnosis of intersecting facets (its message \
