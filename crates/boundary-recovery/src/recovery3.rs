@@ -37,7 +37,7 @@ use delmesh_delaunay_core::{
     find_face_in, CellId, ConstrainedTriangulation2, ConstrainedTriangulation3, Insertion,
     StarSearch, Triangulation2, Triangulation3, VertexId,
 };
-use delmesh_predicates::{orient2d, Sign};
+use delmesh_predicates::{orient2d, orient3d, Sign};
 use std::collections::HashMap;
 use std::fmt;
 
@@ -102,6 +102,12 @@ pub struct RecoveryHistory3 {
     pub a_priori_rejected: usize,
     /// Field points left out because they lie exactly on the surface.
     pub field_points_on_surface: usize,
+    /// Flat tetrahedra spanning two sub-faces of one facet that the choice of sub-faces put
+    /// outside the domain.
+    pub flat_tetrahedra_moved_out: usize,
+    /// Flat tetrahedra in the domain spanning a surface edge, broken by splitting the edge
+    /// (these points are counted in `edge_points`).
+    pub flat_tetrahedra_split: usize,
     /// Sub-segments at the end (surface edges of the mesh).
     pub final_surface_edges: usize,
     /// Sub-faces at the end (boundary triangles of the mesh).
@@ -404,6 +410,15 @@ impl BoundaryRecovery3 {
         let dropped_on_surface = self.extra_points.len() - extra.len();
         let mut points = plc.points.clone();
         points.extend_from_slice(&extra);
+        let derived = match (&checked, self.sides.is_empty()) {
+            (Some(c), true) => domain_sides(c),
+            _ => Vec::new(),
+        };
+        let sides: &[f64] = if self.sides.is_empty() {
+            &derived
+        } else {
+            &self.sides
+        };
         let mut a_priori_rejected = 0;
         if self.method == RecoveryMethod3::APriori {
             if let Some(t) = plc
@@ -460,6 +475,25 @@ impl BoundaryRecovery3 {
             ..Default::default()
         };
         state.recover(&mut history)?;
+        // Flat tetrahedra on the surface: moved out of the domain by the choice of sub-faces
+        // where they span one facet, broken by a split where they span a surface edge.
+        let mut last = usize::MAX;
+        for _ in 0..MAX_SLIVER_ROUNDS {
+            history.flat_tetrahedra_moved_out += state.move_flat_tetrahedra_out(sides);
+            let todo = state.edges_under_flat_tetrahedra(sides);
+            // Splitting must make progress; where it does not (or there is nothing to do), stop.
+            if todo.is_empty() || todo.len() >= last {
+                break;
+            }
+            last = todo.len();
+            // Highest position first within a segment, so earlier positions stay valid.
+            for &(si, k) in todo.iter().rev() {
+                state.split_subsegment(si, k)?;
+                history.edge_points += 1;
+            }
+            history.flat_tetrahedra_split += todo.len();
+            state.recover(&mut history)?;
+        }
         history.final_surface_edges = state.segs.iter().map(|s| s.pts.len() - 1).sum();
 
         // Protect the recovered faces, then classify.
@@ -497,6 +531,44 @@ impl BoundaryRecovery3 {
             n_input_points: n_input,
             history,
         })
+    }
+}
+
+/// Rounds of breaking flat tetrahedra on the surface (each followed by edge and face checking).
+const MAX_SLIVER_ROUNDS: usize = 1;
+
+/// A tetrahedron on the surface with a dihedral angle under this many degrees is flat.
+const FLAT_DIHEDRAL: f64 = 1.0;
+
+/// The surface is flat across an edge where its two triangles' normals differ by less than
+/// this many degrees.
+const FLAT_SURFACE: f64 = 0.5;
+
+/// The smallest dihedral angle of a tetrahedron, in degrees (a measure, not a decision about
+/// topology).
+fn min_dihedral(p: [[f64; 3]; 4]) -> f64 {
+    let normal = |i: usize, j: usize, k: usize| {
+        let n = cross(sub(p[j], p[i]), sub(p[k], p[i]));
+        let l = dot(n, n).sqrt();
+        [n[0] / l, n[1] / l, n[2] / l]
+    };
+    let n = [
+        normal(1, 2, 3),
+        normal(0, 3, 2),
+        normal(0, 1, 3),
+        normal(0, 2, 1),
+    ];
+    let mut smallest = 180.0f64;
+    for i in 0..4 {
+        for j in i + 1..4 {
+            let c = -dot(n[i], n[j]);
+            smallest = smallest.min(c.clamp(-1.0, 1.0).acos().to_degrees());
+        }
+    }
+    if smallest.is_nan() {
+        0.0
+    } else {
+        smallest
     }
 }
 
@@ -893,6 +965,138 @@ impl<'a> State<'a> {
         }
         self.star = star;
         missing
+    }
+
+    /// Every sub-segment (segment, position; sorted) whose two sub-faces (one in each facet along it) are two faces
+    /// of one tetrahedron in the domain that is flat (a dihedral angle under
+    /// [`FLAT_DIHEDRAL`]): two nearly coplanar surface triangles whose corners are nearly
+    /// co-circular, on a flat part of the surface. A point on the edge lies inside that
+    /// tetrahedron's circumsphere, so splitting the edge removes it.
+    fn edges_under_flat_tetrahedra(&mut self, sides: &[f64]) -> Vec<(usize, usize)> {
+        let mut todo: Vec<(usize, usize)> = Vec::new();
+        let mut star = std::mem::take(&mut self.star);
+        for si in 0..self.segs.len() {
+            let facets = &self.seg_facets[si];
+            if facets.len() != 2 {
+                continue;
+            }
+            let side = |f: u32| sides.get(f as usize).copied().unwrap_or(0.0);
+            let (s0, s1) = (side(facets[0]), side(facets[1]));
+            if s0 == 0.0 || s1 == 0.0 {
+                continue;
+            }
+            for k in 0..self.segs[si].pts.len() - 1 {
+                let (u, w) = (self.segs[si].pts[k].1, self.segs[si].pts[k + 1].1);
+                // The apex of the sub-face along u w in each facet, and that sub-face.
+                let apex = |f: u32| {
+                    self.facs[f as usize].subfaces.iter().find_map(|t| {
+                        (0..3).find_map(|m| {
+                            let (a, b) = (t[m], t[(m + 1) % 3]);
+                            ((a == u && b == w) || (a == w && b == u))
+                                .then_some((*t, t[(m + 2) % 3]))
+                        })
+                    })
+                };
+                let (Some((t0, x)), Some((t1, y))) = (apex(facets[0]), apex(facets[1])) else {
+                    continue;
+                };
+                self.stars.star(&self.tri, u, &mut star);
+                let is_tet = star.iter().any(|&c| {
+                    let v = self.tri.cell(c);
+                    [w, x, y].iter().all(|z| v.contains(z))
+                });
+                if !is_tet {
+                    continue;
+                }
+                let pts = [u, w, x, y].map(|z| self.tri.vertex(z));
+                // Only where the surface itself is flat across the edge: the two sub-faces'
+                // normals (both oriented with their facets) within the angle.
+                let normal = |t: [VertexId; 3]| {
+                    let q = t.map(|v| self.tri.vertex(v));
+                    cross(sub(q[1], q[0]), sub(q[2], q[0]))
+                };
+                let (n0, n1) = (normal(t0), normal(t1));
+                let cos = dot(n0, n1) / (dot(n0, n0) * dot(n1, n1)).sqrt();
+                if cos < FLAT_SURFACE.to_radians().cos() || min_dihedral(pts) >= FLAT_DIHEDRAL {
+                    continue;
+                }
+                let on_domain_side = |t: [VertexId; 3], z: VertexId, s: f64| {
+                    let q = [t[0], t[1], t[2], z].map(|v| self.tri.vertex(v));
+                    let above = orient3d(q[0], q[1], q[2], q[3]) == Sign::Positive;
+                    if above {
+                        s > 0.0
+                    } else {
+                        s < 0.0
+                    }
+                };
+                if on_domain_side(t0, y, s0) && on_domain_side(t1, x, s1) {
+                    todo.push((si, k));
+                }
+            }
+        }
+        self.star = star;
+        todo.sort_unstable();
+        todo
+    }
+
+    /// Where the four corners of two adjacent sub-faces of a facet form a tetrahedron (a flat
+    /// one: the corners are nearly co-circular in the facet's plane, so the Delaunay
+    /// tetrahedralisation has both diagonals), takes as sub-faces the pair that leaves it on the
+    /// side away from the domain, so it is deleted with the exterior instead of staying in the
+    /// mesh as a sliver. `sides[f]` is the domain's side of facet `f` (+1 along its normal, −1
+    /// against it, 0 unknown: nothing done). Returns how many were moved out.
+    fn move_flat_tetrahedra_out(&mut self, sides: &[f64]) -> usize {
+        let mut moved = 0;
+        let mut star = std::mem::take(&mut self.star);
+        for f in 0..self.facs.len() {
+            let s = sides.get(f).copied().unwrap_or(0.0);
+            if s == 0.0 || self.facs[f].subfaces.len() < 2 {
+                continue;
+            }
+            let mut subfaces = std::mem::take(&mut self.facs[f].subfaces);
+            let mut changed = true;
+            while changed {
+                changed = false;
+                'pairs: for i in 0..subfaces.len() {
+                    let t = subfaces[i];
+                    for e in 0..3 {
+                        let (u, w, x) = (t[e], t[(e + 1) % 3], t[(e + 2) % 3]);
+                        let Some(j) = (0..subfaces.len()).find(|&j| {
+                            j != i
+                                && (0..3)
+                                    .any(|m| subfaces[j][m] == w && subfaces[j][(m + 1) % 3] == u)
+                        }) else {
+                            continue;
+                        };
+                        let o = subfaces[j];
+                        let m = (0..3).find(|&m| o[m] == w).unwrap_or(0);
+                        let y = o[(m + 2) % 3];
+                        self.stars.star(&self.tri, u, &mut star);
+                        let is_tet = star.iter().any(|&c| {
+                            let v = self.tri.cell(c);
+                            [w, x, y].iter().all(|z| v.contains(z))
+                        });
+                        if !is_tet {
+                            continue;
+                        }
+                        // y is on the side of (u, w, x)'s normal (the facet's) when positive.
+                        let p = [u, w, x, y].map(|z| self.tri.vertex(z));
+                        let above = orient3d(p[0], p[1], p[2], p[3]) == Sign::Positive;
+                        let inside = if above { s > 0.0 } else { s < 0.0 };
+                        if inside {
+                            subfaces[i] = [u, y, x];
+                            subfaces[j] = [y, w, x];
+                            moved += 1;
+                            changed = true;
+                            break 'pairs;
+                        }
+                    }
+                }
+            }
+            self.facs[f].subfaces = subfaces;
+        }
+        self.star = star;
+        moved
     }
 
     /// Where two adjacent sub-faces are both missing but the tetrahedralisation has the two

@@ -15,6 +15,7 @@
 //! # Ok::<(), delmesh::Error>(())
 //! ```
 
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -26,6 +27,7 @@ use delmesh_io::{SurfaceFile, TetMeshOut};
 use delmesh_point_gen::{
     Adaptation, BackgroundMesh3, GenerationReport3, PointGeneration3, Source3, SpacingField3,
 };
+use delmesh_predicates::{orient3d, Sign};
 use delmesh_smoothing::{QualityReport3, SmoothStats, Smoother3};
 
 use crate::Error;
@@ -196,7 +198,34 @@ pub fn restore_delaunay(
         regions: plc.regions.clone(),
         first_index: plc.first_index,
     };
-    let mut recovery = BoundaryRecovery3::new(RecoveryMethod3::Conforming).trusted_surface();
+    // The domain's side of each boundary triangle, from the tetrahedron on it.
+    let mut opposite: HashMap<[u32; 3], u32> = HashMap::with_capacity(4 * arrays.tets.len());
+    for t in &arrays.tets {
+        for k in 0..4 {
+            let mut f = [t[(k + 1) % 4], t[(k + 2) % 4], t[(k + 3) % 4]];
+            f.sort_unstable();
+            opposite.insert(f, t[k]);
+        }
+    }
+    let sides = arrays
+        .faces
+        .iter()
+        .map(|t| {
+            let mut key = *t;
+            key.sort_unstable();
+            opposite.get(&key).map_or(0.0, |&d| {
+                let p = [t[0], t[1], t[2], d].map(|i| arrays.coords[i as usize]);
+                match orient3d(p[0], p[1], p[2], p[3]) {
+                    Sign::Positive => 1.0,
+                    Sign::Negative => -1.0,
+                    Sign::Zero => 0.0,
+                }
+            })
+        })
+        .collect();
+    let mut recovery = BoundaryRecovery3::new(RecoveryMethod3::Conforming)
+        .trusted_surface()
+        .with_domain_sides(sides);
     if let Some(n) = max_steiner_points {
         recovery = recovery.max_steiner_points(n);
     }
