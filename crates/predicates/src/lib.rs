@@ -30,6 +30,7 @@
 //! rejects points whose coordinates span more than that range.
 #![forbid(unsafe_code)]
 
+mod bigint;
 mod exact;
 mod integer;
 mod sos;
