@@ -11,8 +11,9 @@
 //! valgrind --tool=callgrind target/release/deps/surface-HASH --once sphere-10000
 //! ```
 //!
-//! Cases for `--once`: `sphere-N` (N points on the unit sphere) and `surface` (icosphere of
-//! level 4, 2,562 points, plus 10×10 points on each face of a box, 3,162 points in all).
+//! Cases for `--once`: `sphere-N` (N points on the unit sphere), `surface` (icosphere of
+//! level 4, 2,562 points, plus 10×10 points on each face of a box, 3,162 points in all), and
+//! for comparison `uniform-N` (uniform in the unit cube) and `grid-K` (the grid `{0..K-1}³`).
 
 use criterion::{BenchmarkId, Criterion, SamplingMode};
 use delmesh_delaunay_core::Triangulation3;
@@ -133,8 +134,20 @@ fn case(name: &str) -> Option<Vec<[f64; 3]>> {
     if name == "surface" {
         return Some(surface());
     }
-    let n = name.strip_prefix("sphere-")?.parse().ok()?;
-    Some(sphere(n))
+    if let Some(n) = name.strip_prefix("sphere-") {
+        return Some(sphere(n.parse().ok()?));
+    }
+    if let Some(n) = name.strip_prefix("uniform-") {
+        let mut rng = StdRng::seed_from_u64(42);
+        return Some((0..n.parse().ok()?).map(|_| rng.gen()).collect());
+    }
+    // The integer grid {0..k-1}³, as in `cargo bench --bench delaunay`.
+    let k: usize = name.strip_prefix("grid-")?.parse().ok()?;
+    Some(
+        (0..k * k * k)
+            .map(|i| [(i % k) as f64, (i / k % k) as f64, (i / k / k) as f64])
+            .collect(),
+    )
 }
 
 fn bench(c: &mut Criterion) {

@@ -477,12 +477,7 @@ pub(crate) fn orient2d(x: &[f64; 6]) -> Option<Sign> {
         // |d| < 2^62: the 2×2 determinant is below 2^125 in i128.
         return Some(orient2d_ring(d.map(i128::from)));
     }
-    match differences::<6, 4>(x, 2)? {
-        Ok((d, b)) if b <= 62 => Some(orient2d_ring(d)),
-        Ok((d, _)) => Some(orient2d_ring(d.map(Big::from_i128))),
-        Err(b) if b <= BIG_B => Some(orient2d_ring(big_differences(x, 2))),
-        Err(_) => None,
-    }
+    orient2d_general(x)
 }
 
 /// Sign of `robust::orient3d(a, b, c, d)` for `x = [a, b, c, d]` flattened.
@@ -495,13 +490,7 @@ pub(crate) fn orient3d(x: &[f64; 12]) -> Option<Sign> {
             orient3d_wide(d)
         });
     }
-    match differences::<12, 9>(x, 3)? {
-        Ok((d, b)) if b <= 20 => Some(orient3d_ring(d.map(|v| v as i64))),
-        Ok((d, b)) if b <= 62 => Some(orient3d_wide(d.map(|v| v as i64))),
-        Ok((d, _)) => Some(orient3d_ring(d.map(Big::from_i128))),
-        Err(b) if b <= BIG_B => Some(orient3d_ring(big_differences(x, 3))),
-        Err(_) => None,
-    }
+    orient3d_general(x)
 }
 
 /// Sign of `robust::incircle(a, b, c, d)` for `x = [a, b, c, d]` flattened.
@@ -514,13 +503,7 @@ pub(crate) fn incircle(x: &[f64; 8]) -> Option<Sign> {
             incircle_wide(d)
         });
     }
-    match differences::<8, 6>(x, 2)? {
-        Ok((d, b)) if b <= 14 => Some(incircle_ring(d.map(|v| v as i64))),
-        Ok((d, b)) if b <= 62 => Some(incircle_wide(d.map(|v| v as i64))),
-        Ok((d, _)) => Some(incircle_ring(d.map(Big::from_i128))),
-        Err(b) if b <= BIG_B => Some(incircle_ring(big_differences(x, 2))),
-        Err(_) => None,
-    }
+    incircle_general(x)
 }
 
 /// Sign of `robust::insphere(a, b, c, d, e)` for `x = [a, b, c, d, e]` flattened.
@@ -533,6 +516,50 @@ pub(crate) fn insphere(x: &[f64; 15]) -> Option<Sign> {
             insphere_wide(d)
         });
     }
+    insphere_general(x)
+}
+
+// The general conversion, for coordinates spanning more than 61 bits (or beyond 2^61): out of
+// line, so that the common path above keeps a small stack frame.
+
+#[cold]
+#[inline(never)]
+fn orient2d_general(x: &[f64; 6]) -> Option<Sign> {
+    match differences::<6, 4>(x, 2)? {
+        Ok((d, b)) if b <= 62 => Some(orient2d_ring(d)),
+        Ok((d, _)) => Some(orient2d_ring(d.map(Big::from_i128))),
+        Err(b) if b <= BIG_B => Some(orient2d_ring(big_differences(x, 2))),
+        Err(_) => None,
+    }
+}
+
+#[cold]
+#[inline(never)]
+fn orient3d_general(x: &[f64; 12]) -> Option<Sign> {
+    match differences::<12, 9>(x, 3)? {
+        Ok((d, b)) if b <= 20 => Some(orient3d_ring(d.map(|v| v as i64))),
+        Ok((d, b)) if b <= 62 => Some(orient3d_wide(d.map(|v| v as i64))),
+        Ok((d, _)) => Some(orient3d_ring(d.map(Big::from_i128))),
+        Err(b) if b <= BIG_B => Some(orient3d_ring(big_differences(x, 3))),
+        Err(_) => None,
+    }
+}
+
+#[cold]
+#[inline(never)]
+fn incircle_general(x: &[f64; 8]) -> Option<Sign> {
+    match differences::<8, 6>(x, 2)? {
+        Ok((d, b)) if b <= 14 => Some(incircle_ring(d.map(|v| v as i64))),
+        Ok((d, b)) if b <= 62 => Some(incircle_wide(d.map(|v| v as i64))),
+        Ok((d, _)) => Some(incircle_ring(d.map(Big::from_i128))),
+        Err(b) if b <= BIG_B => Some(incircle_ring(big_differences(x, 2))),
+        Err(_) => None,
+    }
+}
+
+#[cold]
+#[inline(never)]
+fn insphere_general(x: &[f64; 15]) -> Option<Sign> {
     match differences::<15, 12>(x, 3)? {
         Ok((d, b)) if b <= 11 => Some(insphere_ring(d.map(|v| v as i64))),
         Ok((d, b)) if b <= 62 => Some(insphere_wide(d.map(|v| v as i64))),
