@@ -1,14 +1,16 @@
 //! The four classic predicates, exact, with delmesh's sign conventions.
 //!
-//! Wrappers over [`robust`] (Shewchuk's adaptive predicates) that fix the sign convention
-//! (positive volume = positive orientation in 3D) and return a [`Sign`].
+//! Each fixes the sign convention (positive volume = positive orientation in 3D) and returns
+//! a [`Sign`].
 //!
 //! In front of each sits a *semi-static filter*: the determinant in floating point, accepted
 //! when it exceeds an error bound built from the largest coordinate difference `M` instead of
 //! Shewchuk's permanent (which costs as much as the determinant). The bound is Shewchuk's
 //! stage-A bound (`errboundA × permanent`, Shewchuk 1997, §4.3) with the permanent replaced by
 //! its upper bound `k·M^d`, so whatever the filter accepts, stage A would have accepted too.
-//! Anything closer to degenerate falls through to `robust`, which is exact.
+//! Anything closer to degenerate falls through to the exact integer evaluation of
+//! [`crate::integer`], and only input it cannot represent (outside [`crate::COORDINATE_RANGE`]
+//! or not finite) to [`robust`] (Shewchuk's adaptive predicates).
 
 use crate::Sign;
 use robust::{Coord, Coord3D};

@@ -162,11 +162,9 @@ fn differences<const M: usize, const D: usize>(
 /// scaled by `S = 2^(61 − top)` are integers `k` with `|k| < 2^61`, and their differences
 /// fit `i64` with `|d| < 2^62` (the wide tier's bound).
 ///
-/// Exactness: `S` is a power of two no less than 1 (`top ≤ 61` is required), so `x · S` is
-/// exact (no rounding, no overflow below `2^61`, and scaling up is exact even for
-/// subnormals); `trunc` tells whether it is an integer, and then the conversion to `i64` is
-/// exact. `None` when some coordinate has bits below `2^(top − 61)` (then
-/// [`differences`] decides), when `|x| ≥ 2^61`, or for non-finite input.
+/// Exactness: `x · S` is read off the bits of `x` with integer shifts, and accepted only if no
+/// set bit is shifted out. `None` when some coordinate has bits below `2^(top − 61)` (then
+/// [`differences`] decides), when `top > 61` (`S < 1`), or for non-finite input.
 #[inline(always)]
 fn small_differences<const M: usize, const D: usize>(x: &[f64; M], n: usize) -> Option<[i64; D]> {
     // The largest biased exponent field E: every |x| < 2^(E − 1022).
@@ -178,14 +176,20 @@ fn small_differences<const M: usize, const D: usize>(x: &[f64; M], n: usize) -> 
     if !(60..=1083).contains(&field) {
         return None; // huge, non-finite (E = 2047), or all zero / subnormal
     }
-    let scale = f64::from_bits((2106 - field) << 52);
-    let mut integral = true;
+    // x · S from the bits: x = m·2^(e − 1075) (e ≥ 1 the exponent, m < 2^53 the significand),
+    // so x · S = m · 2^(e + 8 − E) = (m·2^8) / 2^r with r = E − e ≥ 0. It is an integer iff the
+    // r low bits of m·2^8 < 2^61 are zero (all of them when r ≥ 63).
+    let mut lost = 0u64;
     let k: [i64; M] = std::array::from_fn(|i| {
-        let y = x[i] * scale;
-        integral &= y == y.trunc();
-        y as i64
+        let bits = x[i].to_bits();
+        let e = (bits >> 52) & 0x7FF;
+        let m = ((bits & FRACTION) | (u64::from(e != 0) << 52)) << 8;
+        let r = (field - e.max(1)).min(63);
+        lost |= m & ((1u64 << r) - 1);
+        let sign = (bits as i64) >> 63; // 0 or −1
+        ((m >> r) as i64 ^ sign) - sign
     });
-    if !integral {
+    if lost != 0 {
         return None;
     }
     let last = M - n;
