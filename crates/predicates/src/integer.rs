@@ -23,7 +23,7 @@
 //!
 //! | predicate | 2×2 minor      | lift         | 3×3 minor      | determinant   |
 //! |-----------|----------------|--------------|----------------|---------------|
-//! | orient2d  | `< 2^(2b+1)+1` |              |                | `≤ 2^(2b+1)`  |
+//! | orient2d  | (the determinant)            | | | `≤ 2^(2b+1)`  |
 //! | orient3d  | `≤ 2^(2b+1)`   |              | `< 2^(3b+3)`   | `< 2^(3b+3)`  |
 //! | incircle  | `≤ 2^(2b+1)`   | `≤ 2^(2b+1)` |                | `< 2^(4b+4)`  |
 //! | insphere  | `≤ 2^(2b+1)`   | `< 2^(2b+2)` | `< 2^(3b+3)`   | `< 2^(5b+7)`  |
@@ -157,14 +157,17 @@ fn differences<const M: usize, const D: usize>(
     Some(Ok((d, b)))
 }
 
-/// The common case of [`differences`], cheaply: when every coordinate is an integer
-/// multiple of `2^(top − 61)`, with `2^top` a power of two above every `|x|`, the coordinates
-/// scaled by `S = 2^(61 − top)` are integers `k` with `|k| < 2^61`, and their differences
-/// fit `i64` with `|d| < 2^62` (the wide tier's bound).
+/// The common case of [`differences`], cheaply: with `E` the largest biased exponent of the
+/// coordinates (so every `|x| < 2^(E − 1022)`), the coordinates times `S = 2^(1083 − E)` are
+/// below `2^61` in magnitude; when they are all integers `k`, their differences fit `i64`
+/// with `|d| < 2^62` (the wide tier's bound), and they are the integers of the module doc at
+/// the scale `2^(E − 1083)` (any common power of two does: the determinant's sign does not
+/// depend on it).
 ///
-/// Exactness: `x · S` is read off the bits of `x` with integer shifts, and accepted only if no
-/// set bit is shifted out. `None` when some coordinate has bits below `2^(top − 61)` (then
-/// [`differences`] decides), when `top > 61` (`S < 1`), or for non-finite input.
+/// Exactness: `x · S` is read off the bits of `x` with integer shifts and accepted only if no
+/// set bit is shifted out, so `k = x · S` exactly. `None` when some coordinate has bits below
+/// `2^(E − 1083)` (a span of more than 61 bits: then [`differences`] decides), for non-finite
+/// input, and when every coordinate is zero or subnormal.
 #[inline(always)]
 fn small_differences<const M: usize, const D: usize>(x: &[f64; M], n: usize) -> Option<[i64; D]> {
     // The largest biased exponent field E: every |x| < 2^(E − 1022).
@@ -172,9 +175,8 @@ fn small_differences<const M: usize, const D: usize>(x: &[f64; M], n: usize) -> 
         .iter()
         .fold(0u64, |m, v| m.max(v.to_bits() & (0x7FF << 52)))
         >> 52;
-    // S = 2^(61 − (E − 1022)) = 2^(1083 − E) must be ≥ 1 and a normal double.
-    if !(60..=1083).contains(&field) {
-        return None; // huge, non-finite (E = 2047), or all zero / subnormal
+    if !(1..=2046).contains(&field) {
+        return None; // non-finite (E = 2047), or all zero / subnormal (E = 0)
     }
     // x · S from the bits: x = m·2^(e − 1075) (e ≥ 1 the exponent, m < 2^53 the significand),
     // so x · S = m · 2^(e + 8 − E) = (m·2^8) / 2^r with r = E − e ≥ 0. It is an integer iff the
@@ -911,6 +913,39 @@ mod tests {
             assert!(matches!(got, Some(Err(b)) if b <= 196), "{got:?} {flat:?}");
             check(p, &mut [0; 6]);
         }
+    }
+
+    /// The fast conversion takes exactly the spans of at most 61 bits below `2^(E − 1022)`.
+    #[test]
+    fn fast_conversion_limits() {
+        let t = 2f64.powi(-60);
+        let fast = |x: [f64; 6]| small_differences::<6, 4>(&x, 2);
+        // 1.0 has E = 1023: S = 2^60, so 2^-60 scales to 1 and 2^-61 to 1/2.
+        assert_eq!(fast([1.0, 0.0, t, -t, 0.0, 0.0]), Some([1 << 60, 0, 1, -1]));
+        assert_eq!(fast([1.0, 0.0, t / 2.0, 0.0, 0.0, 0.0]), None);
+        assert_eq!(
+            fast([-1.5, 0.0, 0.0, 0.0, 0.0, 0.75]),
+            Some([-3 << 59, -3 << 58, 0, -3 << 58])
+        );
+        assert_eq!(fast([0.0; 6]), None);
+        assert_eq!(fast([f64::INFINITY, 0.0, 0.0, 0.0, 0.0, 0.0]), None);
+        assert_eq!(fast([f64::from_bits(3), 0.0, 0.0, 0.0, 0.0, 0.0]), None); // all subnormal
+        let big = 2f64.powi(1000);
+        assert_eq!(
+            fast([big, 0.0, 0.0, big, 0.0, 0.0]),
+            Some([1 << 60, 0, 0, 1 << 60])
+        );
+        // Beyond the fast span the general path answers, and agrees.
+        let x = [1.0, 0.0, t / 2.0, 1.0, 0.0, 0.0];
+        assert_eq!(orient2d(&x), Some(Sign::Positive)); // 1·1 − 0·2^-61
+        assert_eq!(
+            orient2d(&x),
+            Some(Sign::of(robust::orient2d(
+                c2(&x[0..]),
+                c2(&x[2..]),
+                c2(&x[4..])
+            )))
+        );
     }
 
     #[test]
