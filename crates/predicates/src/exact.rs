@@ -1,14 +1,16 @@
 //! The four classic predicates, exact, with delmesh's sign conventions.
 //!
-//! Wrappers over [`robust`] (Shewchuk's adaptive predicates) that fix the sign convention
-//! (positive volume = positive orientation in 3D) and return a [`Sign`].
+//! Each fixes the sign convention (positive volume = positive orientation in 3D) and returns
+//! a [`Sign`].
 //!
 //! In front of each sits a *semi-static filter*: the determinant in floating point, accepted
 //! when it exceeds an error bound built from the largest coordinate difference `M` instead of
 //! Shewchuk's permanent (which costs as much as the determinant). The bound is Shewchuk's
 //! stage-A bound (`errboundA × permanent`, Shewchuk 1997, §4.3) with the permanent replaced by
 //! its upper bound `k·M^d`, so whatever the filter accepts, stage A would have accepted too.
-//! Anything closer to degenerate falls through to `robust`, which is exact.
+//! Anything closer to degenerate falls through to the exact integer evaluation of
+//! [`crate::integer`], and only input it cannot represent (outside [`crate::COORDINATE_RANGE`]
+//! or not finite) to [`robust`] (Shewchuk's adaptive predicates).
 
 use crate::Sign;
 use robust::{Coord, Coord3D};
@@ -42,8 +44,8 @@ pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
     if m > TINY && det.abs() > 7.0e-16 * (m * m) {
         return Sign::of(det);
     }
-    if let Some(k) = crate::integer::lattice([a[0], a[1], b[0], b[1], c[0], c[1]]) {
-        return Sign::of(f64::from(crate::integer::orient2d(k)));
+    if let Some(s) = crate::integer::orient2d(&[a[0], a[1], b[0], b[1], c[0], c[1]]) {
+        return s;
     }
     Sign::of(robust::orient2d(c2(a), c2(b), c2(c)))
 }
@@ -65,10 +67,10 @@ pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
     if m > TINY && det.abs() > 4.8e-15 * (m * m * m) {
         return Sign::of(-det);
     }
-    if let Some(k) = crate::integer::lattice([
+    if let Some(s) = crate::integer::orient3d(&[
         a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2],
     ]) {
-        return Sign::of(-f64::from(crate::integer::orient3d(k)));
+        return s.reversed();
     }
     // robust::orient3d is positive when d is *below* the plane of a counter-clockwise a, b, c,
     // i.e. when the volume above is negative.
@@ -98,8 +100,8 @@ pub fn incircle(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> Sign {
     if m > TINY && det.abs() > 1.4e-14 * ((m * m) * (m * m)) {
         return Sign::of(det);
     }
-    if let Some(k) = crate::integer::lattice([a[0], a[1], b[0], b[1], c[0], c[1], d[0], d[1]]) {
-        return Sign::of(f64::from(crate::integer::incircle(k)));
+    if let Some(s) = crate::integer::incircle(&[a[0], a[1], b[0], b[1], c[0], c[1], d[0], d[1]]) {
+        return s;
     }
     Sign::of(robust::incircle(c2(a), c2(b), c2(c), c2(d)))
 }
@@ -113,13 +115,7 @@ pub fn insphere(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3], e: [f64; 3])
     if let Some(s) = insphere_filter(a, b, c, d, e) {
         return s;
     }
-    if let Some(k) = crate::integer::lattice([
-        a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2], e[0], e[1], e[2],
-    ]) {
-        return Sign::of(-f64::from(crate::integer::insphere(k)));
-    }
-    // robust::insphere expects robust's positive orientation, which is our negative one.
-    Sign::of(-robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e)))
+    insphere_exact(&[a, b, c, d, e])
 }
 
 /// The semi-static filter of [`insphere`]: the sign when the floating-point determinant is
@@ -162,15 +158,21 @@ pub(crate) fn insphere_filter(
     None
 }
 
-/// Exact [`insphere`] after its filter failed, with the lattice form of the points if they
-/// have one (for the caller to reuse).
-pub(crate) fn insphere_exact(p: &[[f64; 3]; 5]) -> (Sign, Option<[i64; 15]>) {
+/// Exact [`insphere`] after its filter failed.
+#[inline]
+pub(crate) fn insphere_exact(p: &[[f64; 3]; 5]) -> Sign {
     let flat: [f64; 15] = std::array::from_fn(|i| p[i / 3][i % 3]);
-    if let Some(k) = crate::integer::lattice(flat) {
-        return (Sign::of(-f64::from(crate::integer::insphere(k))), Some(k));
+    if let Some(s) = crate::integer::insphere(&flat) {
+        return s.reversed();
     }
-    let s = -robust::insphere(c3(p[0]), c3(p[1]), c3(p[2]), c3(p[3]), c3(p[4]));
-    (Sign::of(s), None)
+    // robust::insphere expects robust's positive orientation, which is our negative one.
+    Sign::of(-robust::insphere(
+        c3(p[0]),
+        c3(p[1]),
+        c3(p[2]),
+        c3(p[3]),
+        c3(p[4]),
+    ))
 }
 
 /// `max` without NaN handling (the inputs are finite): one instruction instead of three.
@@ -228,6 +230,7 @@ mod tests {
     /// The filters must agree with robust's exact answers everywhere, in particular near
     /// degeneracies, where they must fall through instead of guessing.
     #[test]
+    #[allow(clippy::needless_range_loop)] // the loop indexes several points at once
     fn filters_agree_with_exact_predicates() {
         let mut s = 0x1234_5678_9abc_def0u64;
         let mut rnd = || {

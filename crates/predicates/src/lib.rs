@@ -1,10 +1,12 @@
 //! Exact geometric predicates for delmesh, with a symbolic perturbation.
 //!
 //! Every topological decision delmesh makes (which side of a line/plane a point lies on, whether a
-//! point lies inside a circumcircle/circumsphere) goes through this crate. The arithmetic is
-//! Shewchuk's adaptive exact arithmetic from the [`robust`] crate: a floating-point evaluation with
-//! an error bound answers almost every call, and an exact expansion answers the rest, so every
-//! sign returned here is the sign of the exact determinant of the `f64` inputs.
+//! point lies inside a circumcircle/circumsphere) goes through this crate, in two stages: a
+//! floating-point evaluation with a semi-static error bound answers almost every call, and an
+//! exact evaluation in integer arithmetic answers the rest (the coordinates of one call are
+//! integers at a common power-of-two scale; see `integer.rs`), so every sign returned here is
+//! the sign of the exact determinant of the `f64` inputs. Shewchuk's adaptive arithmetic, from
+//! the [`robust`] crate, is only the last resort for input outside [`COORDINATE_RANGE`].
 //!
 //! On top of that, [`incircle_sos`] and [`insphere_sos`] never answer [`Sign::Zero`]: four
 //! co-circular (five co-spherical) points are resolved by a *symbolic perturbation* of the lifted
@@ -30,6 +32,7 @@
 //! rejects points whose coordinates span more than that range.
 #![forbid(unsafe_code)]
 
+mod bigint;
 mod exact;
 mod integer;
 mod sos;

@@ -74,8 +74,7 @@ pub fn insphere_sos<K: Ord + Copy>(p: [[f64; 3]; 5], ids: [K; 5]) -> Sign {
 ///
 /// Precondition: as [`insphere_sos`], and `insphere(p[0], …, p[4])` is zero.
 pub fn insphere_tiebreak<K: Ord + Copy>(p: [[f64; 3]; 5], ids: [K; 5]) -> Sign {
-    let flat: [f64; 15] = std::array::from_fn(|i| p[i / 3][i % 3]);
-    tiebreak3(&p, crate::integer::lattice(flat), ids)
+    tiebreak3(&p, ids)
 }
 
 /// The in-sphere test delmesh uses: exact, with the perturbation ranked by the points'
@@ -89,8 +88,8 @@ pub fn insphere_lex(p: [[f64; 3]; 5]) -> Sign {
         return s;
     }
     match crate::exact::insphere_exact(&p) {
-        (Sign::Zero, lattice) => tiebreak3(&p, lattice, p.map(|q| std::cmp::Reverse(Lex(q)))),
-        (s, _) => s,
+        Sign::Zero => tiebreak3(&p, p.map(|q| std::cmp::Reverse(Lex(q)))),
+        s => s,
     }
 }
 
@@ -105,19 +104,9 @@ pub fn incircle_lex(p: [[f64; 2]; 4]) -> Sign {
     }
 }
 
-/// [`insphere_tiebreak`] with the points' lattice form, if any, already computed: grid points
-/// get their coefficients in integers.
-fn tiebreak3<K: Ord + Copy>(p: &[[f64; 3]; 5], lattice: Option<[i64; 15]>, ids: [K; 5]) -> Sign {
-    let orient = |q: [usize; 4]| -> Sign {
-        match &lattice {
-            Some(k) => {
-                let sub: [i64; 12] = std::array::from_fn(|i| k[3 * q[i / 3] + i % 3]);
-                // integer::orient3d has robust's sign: ours is the opposite.
-                Sign::of(-f64::from(crate::integer::orient3d(sub)))
-            }
-            None => orient3d(p[q[0]], p[q[1]], p[q[2]], p[q[3]]),
-        }
-    };
+/// [`insphere_tiebreak`]: the coefficients of the perturbation by decreasing id.
+fn tiebreak3<K: Ord + Copy>(p: &[[f64; 3]; 5], ids: [K; 5]) -> Sign {
+    let orient = |q: [usize; 4]| orient3d(p[q[0]], p[q[1]], p[q[2]], p[q[3]]);
     let mut order = DecreasingIds::new(ids);
     while let Some(slot) = order.next() {
         let coefficient = if slot == 4 {
