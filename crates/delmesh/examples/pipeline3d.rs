@@ -1,7 +1,7 @@
 //! Times the 3D pipeline on a demo, stage by stage, with options from the command line.
 //!
 //! `cargo run --release -p delmesh --example pipeline3d -- [DEMO] [--alpha A] [--iterations N]
-//! [--no-smoothing] [--no-restoration]`
+//! [--no-guard] [--no-smoothing] [--no-restoration]`
 //!
 //! DEMO is a 3D demo name (`figure9`, the double ellipsoid with automatic points, by default).
 //! Prints the run's summary (Table 2, generation passes, quality, seconds per stage).
@@ -28,6 +28,12 @@ fn main() -> Result<(), delmesh::Error> {
     }
     if let Some(n) = value("--iterations") {
         options.smoothing = Some(Smoother3::new().iterations(n as usize));
+    }
+    if args.iter().any(|a| a == "--no-guard") {
+        options.smoothing = options
+            .smoothing
+            .map(|s| s.dihedral_guard(delmesh::smoothing::DihedralGuard::Off))
+            .transpose()?;
     }
     if args.iter().any(|a| a == "--no-smoothing") {
         options.smoothing = None;

@@ -104,9 +104,10 @@ struct MeshArgs {
     /// Smoothing relaxation factor ω (paper: 0.05–0.25).
     #[arg(long, default_value_t = 0.2)]
     omega: f64,
-    /// Smoothing passes N (paper: 20–50).
-    #[arg(long, default_value_t = 30)]
-    iterations: usize,
+    /// Smoothing passes N (paper: 20–50; default 30 in 2D, 10 in 3D, where the Delaunay
+    /// restoration that follows re-triangulates the points).
+    #[arg(long)]
+    iterations: Option<usize>,
     /// No smoothing.
     #[arg(long)]
     no_smoothing: bool,
@@ -374,7 +375,7 @@ fn mesh(args: &MeshArgs) -> Result<()> {
         Some(
             Smoother::new()
                 .omega(args.omega)?
-                .iterations(args.iterations),
+                .iterations(args.iterations.unwrap_or(30)),
         )
     };
     options.delaunay_flips = !args.no_flips;
@@ -448,7 +449,7 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
             Some(
                 Smoother3::new()
                     .omega(args.omega)?
-                    .iterations(args.iterations),
+                    .iterations(args.iterations.unwrap_or(mesh3d::SMOOTHING_PASSES)),
             )
         },
         ..MeshOptions3::default()

@@ -43,6 +43,11 @@ pub enum Spacing3 {
     Background(BackgroundMesh3),
 }
 
+/// Smoothing passes of the 3D pipeline. Below the paper's 20–50: the Delaunay restoration that
+/// follows smoothing re-triangulates the points, and on the double ellipsoid (`figure9`) 30
+/// passes left 185 slivers (dihedral < 5°) where 10 left 169, at a third of the time.
+pub const SMOOTHING_PASSES: usize = 10;
+
 /// Options of the 3D pipeline; `Default` is the paper's method with its usual parameters.
 #[derive(Clone, Debug)]
 pub struct MeshOptions3 {
@@ -74,7 +79,7 @@ impl Default for MeshOptions3 {
             spacing: Spacing3::Boundary,
             sources: Vec::new(),
             max_steiner_points: None,
-            smoothing: Some(Smoother3::new()),
+            smoothing: Some(Smoother3::new().iterations(SMOOTHING_PASSES)),
             delaunay: true,
         }
     }
@@ -199,8 +204,12 @@ pub fn restore_delaunay(
         first_index: plc.first_index,
     };
     // The domain's side of each boundary triangle, from the tetrahedron on it.
-    let mut opposite: HashMap<[u32; 3], u32> = HashMap::with_capacity(4 * arrays.tets.len());
+    let mut opposite: HashMap<[u32; 3], u32> = HashMap::with_capacity(2 * arrays.faces.len());
+    let on = &arrays.on_boundary;
     for t in &arrays.tets {
+        if t.iter().filter(|&&v| on[v as usize]).count() < 3 {
+            continue; // no face of it is on the boundary
+        }
         for k in 0..4 {
             let mut f = [t[(k + 1) % 4], t[(k + 2) % 4], t[(k + 3) % 4]];
             f.sort_unstable();
