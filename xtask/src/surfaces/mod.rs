@@ -680,7 +680,7 @@ fn judge(o: &mut Outcome) {
                     dm.tets.unwrap_or(0)
                 ));
             } else if !(tools::names_intersection(&msg) && names_them
-                || tools::names_touching_sheets(&msg))
+                || tools::names_non_manifold(&msg))
             {
                 o.failures.push(format!(
                     "{name}: the surface intersects itself (tetgen -pd: {pairs} pairs); delmesh \
@@ -747,8 +747,11 @@ fn verdict(o: &Outcome, run: &Option<Run>) -> String {
         (_, None) => "-".into(),
         (Expect::Diagnose, Some(r)) if r.timed.success => "FAILED: meshed".into(),
         (Expect::Diagnose, Some(r)) => {
-            if tools::names_intersection(&tools::last_line(&r.timed.stderr)) {
+            let msg = tools::last_line(&r.timed.stderr);
+            if tools::names_intersection(&msg) {
                 "diagnosed".into()
+            } else if tools::names_non_manifold(&msg) {
+                "diagnosed (non-manifold)".into()
             } else {
                 "FAILED: not diagnosed".into()
             }
