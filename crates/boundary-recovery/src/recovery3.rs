@@ -17,6 +17,15 @@
 //!    other diagonal of a (nearly) co-circular quadrilateral, the sub-faces follow it. A missing
 //!    sub-face gets the paper's centroid point, and the edges are checked again (a point on a
 //!    face can hide a nearby sub-segment).
+//! 3. **Flat tetrahedra on the surface.** Four nearly co-circular surface points make a flat
+//!    tetrahedron whose two pairs of faces both lie on the surface. Within one facet the pair
+//!    of sub-faces that leaves it outside the domain is chosen; across the edge between two
+//!    nearly coplanar facets that edge is split once (the point lies in its circumsphere), so
+//!    the mesh does not keep it as a sliver.
+//!
+//! Away from input vertices a missing sub-segment is split at the foot of the perpendicular
+//! from the vertex that hides it most, rather than at its mid-point, when that foot is well
+//! inside: one split then frees both halves (fewer points than the paper's rule).
 //!
 //! Every point added lies on the input surface (to rounding): sub-segment points are placed by
 //! their parameter along the input edge, face points by barycentric coordinates in the input
@@ -945,7 +954,6 @@ impl<'a> State<'a> {
         let mut missing = Vec::new();
         let mut star = std::mem::take(&mut self.star);
         for f in 0..self.facs.len() {
-            let mut changed = false;
             let mut subfaces = std::mem::take(&mut self.facs[f].subfaces);
             let mut absent: Vec<usize> = Vec::new();
             for (k, t) in subfaces.iter().enumerate() {
@@ -955,12 +963,11 @@ impl<'a> State<'a> {
                 }
             }
             if absent.len() >= 2 {
-                changed = self.follow_diagonals(f, &mut subfaces, &mut absent, &mut star);
+                self.follow_diagonals(f, &mut subfaces, &mut absent, &mut star);
             }
             for &k in &absent {
                 missing.push((f as u32, subfaces[k]));
             }
-            let _ = changed;
             self.facs[f].subfaces = subfaces;
         }
         self.star = star;
@@ -1101,16 +1108,15 @@ impl<'a> State<'a> {
 
     /// Where two adjacent sub-faces are both missing but the tetrahedralisation has the two
     /// triangles of the other diagonal of their quadrilateral (a co-circular choice made the
-    /// other way), takes those instead. Returns whether anything changed.
+    /// other way), takes those instead (and drops them from `absent`).
     fn follow_diagonals(
         &mut self,
         f: usize,
         subfaces: &mut [[VertexId; 3]],
         absent: &mut Vec<usize>,
         star: &mut Vec<CellId>,
-    ) -> bool {
-        let coords = self.facet_frame_coords(f, subfaces);
-        let mut changed = false;
+    ) {
+        let coords = self.facet_frame_coords(f);
         let mut i = 0;
         while i < absent.len() {
             let t = subfaces[absent[i]];
@@ -1142,7 +1148,6 @@ impl<'a> State<'a> {
                         subfaces[tj] = [y, w, x];
                         absent.retain(|&k| k != ti && k != tj);
                         flipped = true;
-                        changed = true;
                         break 'edges;
                     }
                 }
@@ -1153,15 +1158,10 @@ impl<'a> State<'a> {
                 i = 0;
             }
         }
-        changed
     }
 
-    /// 2D coordinates in facet `f`'s plane of the vertices of `subfaces`.
-    fn facet_frame_coords(
-        &self,
-        f: usize,
-        _subfaces: &[[VertexId; 3]],
-    ) -> HashMap<VertexId, [f64; 2]> {
+    /// 2D coordinates in facet `f`'s plane of its vertices.
+    fn facet_frame_coords(&self, f: usize) -> HashMap<VertexId, [f64; 2]> {
         let (verts, bary, _) = self.facet_vertices(f);
         let frame = self.frame(f);
         verts
