@@ -160,3 +160,54 @@ fn self_intersecting_surfaces_are_diagnosed() {
     let err = mesh_plc3(&plc, &options(1.0)).unwrap_err().to_string();
     assert!(err.contains("intersect"), "{err}");
 }
+
+/// The convex hull of `points` as a closed surface, triangles counter-clockwise seen from
+/// outside (from the hull's ghost cells).
+fn hull(points: &[[f64; 3]], marker: i32, plc: &mut Plc3) {
+    use delmesh::recovery::SurfaceTriangle;
+    const FACET: [[usize; 3]; 4] = [[1, 3, 2], [0, 2, 3], [0, 3, 1], [0, 1, 2]];
+    let tri = delmesh::Triangulation3::new(points).unwrap();
+    let base = plc.points.len() as u32;
+    plc.points.extend_from_slice(points);
+    for c in tri.all_cells() {
+        let v = tri.cell(c);
+        let Some(g) = v.iter().position(|u| u.is_ghost()) else {
+            continue;
+        };
+        let facet = plc.triangles.len() as u32;
+        plc.triangles.push(SurfaceTriangle {
+            v: FACET[g].map(|k| base + tri.input_index(v[k]) as u32),
+            marker,
+            facet,
+        });
+    }
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(10))]
+    /// Random convex hulls, with a smaller hull inside as a hole half of the time.
+    #[test]
+    fn random_convex_surfaces_mesh_correctly(seed in 0u64..10_000, n in 12usize..60, hole in proptest::bool::ANY) {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+        let mut outer: Vec<[f64; 3]> = (0..n).map(|_| [0, 1, 2].map(|_| rng.gen_range(-1.0..1.0))).collect();
+        // The octahedron |x| + |y| + |z| <= 0.9 stays inside, so the hole always fits.
+        for k in 0..6 {
+            let mut p = [0.0; 3];
+            p[k / 2] = if k % 2 == 0 { 0.9 } else { -0.9 };
+            outer.push(p);
+        }
+        let mut plc = Plc3::default();
+        hull(&outer, 1, &mut plc);
+        let mut chi = 1;
+        if hole {
+            let inner: Vec<[f64; 3]> = (0..n / 2 + 4)
+                .map(|_| [0, 1, 2].map(|_| rng.gen_range(-0.12..0.12)))
+                .collect();
+            hull(&inner, 2, &mut plc);
+            chi = 2;
+        }
+        let run = mesh_plc3(&plc, &options(1.0)).unwrap();
+        check(&plc, &run, chi, true);
+    }
+}
