@@ -23,95 +23,36 @@ pub(crate) fn classify(
     cdt: &mut ConstrainedTriangulation2,
     plc: &Plc2,
 ) -> Result<Vec<f64>, RecoveryError> {
-    let slots = cdt
-        .triangulation()
-        .all_cells()
-        .map(|c| c.index() + 1)
-        .max()
-        .unwrap_or(0);
-    // Components across unconstrained edges.
-    let mut component = vec![u32::MAX; slots];
-    let mut n_components = 0u32;
-    let mut stack = Vec::new();
-    let cells: Vec<CellId> = cdt.triangulation().all_cells().collect();
-    for &c in &cells {
-        if component[c.index()] != u32::MAX {
-            continue;
-        }
-        component[c.index()] = n_components;
-        stack.push(c);
-        while let Some(c) = stack.pop() {
-            for i in 0..3 {
-                if cdt.is_constrained(c, i) {
-                    continue;
-                }
-                let n = cdt.triangulation().neighbor_facet(c, i).cell();
-                if component[n.index()] == u32::MAX {
-                    component[n.index()] = n_components;
-                    stack.push(n);
-                }
-            }
-        }
-        n_components += 1;
-    }
-    // Component adjacency across constrained edges, then depth by breadth-first search.
-    let mut adjacent: Vec<(u32, u32)> = Vec::new();
-    for &c in &cells {
-        for i in 0..3 {
-            if cdt.is_constrained(c, i) {
-                let n = cdt.triangulation().neighbor_facet(c, i).cell();
-                let (x, y) = (component[c.index()], component[n.index()]);
-                if x != y {
-                    adjacent.push((x, y));
-                }
-            }
-        }
-    }
-    adjacent.sort_unstable();
-    adjacent.dedup();
-    let nc = n_components as usize;
-    let mut start = vec![0usize; nc + 1];
-    for &(x, _) in &adjacent {
-        start[x as usize + 1] += 1;
-    }
-    for k in 0..nc {
-        start[k + 1] += start[k];
-    }
-    let mut depth = vec![u32::MAX; nc];
-    let mut queue = VecDeque::new();
-    for &c in &cells {
-        if cdt.triangulation().is_ghost(c) {
-            let k = component[c.index()] as usize;
-            if depth[k] == u32::MAX {
-                depth[k] = 0;
-                queue.push_back(k);
-            }
-        }
-    }
-    while let Some(k) = queue.pop_front() {
-        for &(_, y) in &adjacent[start[k]..start[k + 1]] {
-            if depth[y as usize] == u32::MAX {
-                depth[y as usize] = depth[k] + 1;
-                queue.push_back(y as usize);
-            }
-        }
-    }
+    let tri = cdt.triangulation();
+    let cells: Vec<CellId> = tri.all_cells().collect();
+    let (component, depth) = components_by_depth(
+        &cells,
+        3,
+        |c, i| cdt.is_constrained(c, i),
+        |c, i| tri.neighbor_facet(c, i).cell(),
+        |c| tri.is_ghost(c),
+    );
     let mut region: Vec<u32> = depth
         .iter()
-        .map(|&d| if d % 2 == 1 { 0 } else { OUTSIDE })
+        .map(|&d| {
+            if d != u32::MAX && d % 2 == 1 {
+                0
+            } else {
+                OUTSIDE
+            }
+        })
         .collect();
     let mut attributes = vec![0.0];
     let component_at = |cdt: &mut ConstrainedTriangulation2, p: [f64; 2]| match cdt.locate(p) {
         Location::Cell(c) => Some(component[c.index()] as usize),
         Location::Vertex(_) => None,
     };
-    for (k, r) in plc.regions.iter().enumerate() {
+    for r in &plc.regions {
         if let Some(comp) = component_at(cdt, r.point) {
-            if depth[comp] > 0 {
+            if depth[comp] > 0 && depth[comp] != u32::MAX {
                 region[comp] = attributes.len() as u32;
             }
         }
-        let _ = k;
         attributes.push(r.attribute);
     }
     for &h in &plc.holes {
@@ -132,4 +73,84 @@ pub(crate) fn classify(
         return Err(RecoveryError::EmptyDomain);
     }
     Ok(attributes)
+}
+
+/// Groups `cells` (each with `facets` facets) into components connected across facets that are
+/// not boundary facets, and gives each component its depth: the fewest boundary facets crossed
+/// to reach it from a ghost (outside) cell, `u32::MAX` if unreachable. Returns the component of
+/// each cell slot (indexed by `CellId`) and the depth of each component. Shared by the 2D and
+/// 3D flood fills.
+pub(crate) fn components_by_depth(
+    cells: &[CellId],
+    facets: usize,
+    is_boundary: impl Fn(CellId, usize) -> bool,
+    across: impl Fn(CellId, usize) -> CellId,
+    is_ghost: impl Fn(CellId) -> bool,
+) -> (Vec<u32>, Vec<u32>) {
+    let slots = cells.iter().map(|c| c.index() + 1).max().unwrap_or(0);
+    let mut component = vec![u32::MAX; slots];
+    let mut n_components = 0u32;
+    let mut stack = Vec::new();
+    for &c in cells {
+        if component[c.index()] != u32::MAX {
+            continue;
+        }
+        component[c.index()] = n_components;
+        stack.push(c);
+        while let Some(c) = stack.pop() {
+            for i in 0..facets {
+                if is_boundary(c, i) {
+                    continue;
+                }
+                let n = across(c, i);
+                if component[n.index()] == u32::MAX {
+                    component[n.index()] = n_components;
+                    stack.push(n);
+                }
+            }
+        }
+        n_components += 1;
+    }
+    // Component adjacency across boundary facets, then depth by breadth-first search.
+    let mut adjacent: Vec<(u32, u32)> = Vec::new();
+    for &c in cells {
+        for i in 0..facets {
+            if is_boundary(c, i) {
+                let (x, y) = (component[c.index()], component[across(c, i).index()]);
+                if x != y {
+                    adjacent.push((x, y));
+                }
+            }
+        }
+    }
+    adjacent.sort_unstable();
+    adjacent.dedup();
+    let nc = n_components as usize;
+    let mut start = vec![0usize; nc + 1];
+    for &(x, _) in &adjacent {
+        start[x as usize + 1] += 1;
+    }
+    for k in 0..nc {
+        start[k + 1] += start[k];
+    }
+    let mut depth = vec![u32::MAX; nc];
+    let mut queue = VecDeque::new();
+    for &c in cells {
+        if is_ghost(c) {
+            let k = component[c.index()] as usize;
+            if depth[k] == u32::MAX {
+                depth[k] = 0;
+                queue.push_back(k);
+            }
+        }
+    }
+    while let Some(k) = queue.pop_front() {
+        for &(_, y) in &adjacent[start[k]..start[k + 1]] {
+            if depth[y as usize] == u32::MAX {
+                depth[y as usize] = depth[k] + 1;
+                queue.push_back(y as usize);
+            }
+        }
+    }
+    (component, depth)
 }

@@ -394,24 +394,7 @@ fn mesh(args: &MeshArgs) -> Result<()> {
             .map_err(|e| anyhow::anyhow!("{}: validation failed: {e}", args.input.display()))?;
         eprintln!("validation: ok");
     }
-    let mut written = Vec::new();
-    for out in &args.output {
-        written.extend(run.write(out)?);
-    }
-    if let Some(report) = &args.report {
-        delmesh::io::write_atomic(report, |w| {
-            w.write_all(run.report_json().as_bytes())
-                .map_err(|e| delmesh::io::IoError::Io {
-                    file: report.clone(),
-                    source: e,
-                })
-        })?;
-        written.push(report.clone());
-    }
-    if !args.quiet {
-        print_written(&written);
-    }
-    Ok(())
+    write_mesh_outputs(args, |out| Ok(run.write(out)?), &run.report_json())
 }
 
 /// `delmesh mesh` on a 3D surface: recovery (Table 2), field points, Delaunay restoration.
@@ -501,13 +484,22 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
         check.map_err(|e| anyhow::anyhow!("{}: validation failed: {e}", args.input.display()))?;
         eprintln!("validation: ok");
     }
+    write_mesh_outputs(args, |out| Ok(run.write(out)?), &run.report_json())
+}
+
+/// Writes `delmesh mesh`'s outputs (each `-o` by `write`, then `--report`) and lists them.
+fn write_mesh_outputs(
+    args: &MeshArgs,
+    write: impl Fn(&std::path::Path) -> Result<Vec<PathBuf>>,
+    report_json: &str,
+) -> Result<()> {
     let mut written = Vec::new();
     for out in &args.output {
-        written.extend(run.write(out)?);
+        written.extend(write(out)?);
     }
     if let Some(report) = &args.report {
         delmesh::io::write_atomic(report, |w| {
-            w.write_all(run.report_json().as_bytes())
+            w.write_all(report_json.as_bytes())
                 .map_err(|e| delmesh::io::IoError::Io {
                     file: report.clone(),
                     source: e,

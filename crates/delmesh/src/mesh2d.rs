@@ -468,18 +468,7 @@ fn read_field(path: &Path, field: &str) -> Result<FieldData, Error> {
             dim: mesh.dim,
         });
     }
-    let Some((_, values)) = mesh.point_fields.iter().find(|(n, _)| n == field) else {
-        let names: Vec<&str> = mesh.point_fields.iter().map(|(n, _)| n.as_str()).collect();
-        return Err(Error::MissingField {
-            file: path.to_path_buf(),
-            field: field.to_string(),
-            available: if names.is_empty() {
-                "none".to_string()
-            } else {
-                names.join(", ")
-            },
-        });
-    };
+    let values = point_field(&mesh, field, path)?;
     let points = mesh.coords.chunks_exact(2).map(|p| [p[0], p[1]]).collect();
     let triangles = mesh
         .cells
@@ -487,4 +476,28 @@ fn read_field(path: &Path, field: &str) -> Result<FieldData, Error> {
         .map(|t| [t[0], t[1], t[2]])
         .collect();
     Ok((points, triangles, values.clone()))
+}
+
+/// The point field `field` of a mesh read from `path`, or an error listing the fields it has.
+pub(crate) fn point_field<'a>(
+    mesh: &'a delmesh_io::FieldMesh,
+    field: &str,
+    path: &Path,
+) -> Result<&'a Vec<f64>, Error> {
+    mesh.point_fields
+        .iter()
+        .find(|(n, _)| n == field)
+        .map(|(_, v)| v)
+        .ok_or_else(|| {
+            let names: Vec<&str> = mesh.point_fields.iter().map(|(n, _)| n.as_str()).collect();
+            Error::MissingField {
+                file: path.to_path_buf(),
+                field: field.to_string(),
+                available: if names.is_empty() {
+                    "none".to_string()
+                } else {
+                    names.join(", ")
+                },
+            }
+        })
 }

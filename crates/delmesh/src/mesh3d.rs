@@ -28,7 +28,7 @@ use delmesh_point_gen::{
     Adaptation, BackgroundMesh3, GenerationReport3, PointGeneration3, Source3, SpacingField3,
 };
 use delmesh_predicates::{orient3d, Sign};
-use delmesh_smoothing::{QualityReport3, SmoothStats, Smoother3};
+use delmesh_smoothing::{dihedral_range, QualityReport3, SmoothStats, Smoother3};
 
 use crate::Error;
 
@@ -543,18 +543,7 @@ fn read_field3(path: &Path, field: &str) -> Result<FieldData3, Error> {
             dim: mesh.dim,
         });
     }
-    let Some((_, values)) = mesh.point_fields.iter().find(|(n, _)| n == field) else {
-        let names: Vec<&str> = mesh.point_fields.iter().map(|(n, _)| n.as_str()).collect();
-        return Err(Error::MissingField {
-            file: path.to_path_buf(),
-            field: field.to_string(),
-            available: if names.is_empty() {
-                "none".to_string()
-            } else {
-                names.join(", ")
-            },
-        });
-    };
+    let values = crate::mesh2d::point_field(&mesh, field, path)?;
     let points = mesh
         .coords
         .chunks_exact(3)
@@ -572,38 +561,7 @@ fn read_field3(path: &Path, field: &str) -> Result<FieldData3, Error> {
 fn min_dihedrals(a: &MeshArrays3) -> Vec<f64> {
     a.tets
         .iter()
-        .map(|t| {
-            let p = t.map(|v| a.coords[v as usize]);
-            let normal = |i: usize, j: usize, k: usize| {
-                let u = [0, 1, 2].map(|c| p[j][c] - p[i][c]);
-                let w = [0, 1, 2].map(|c| p[k][c] - p[i][c]);
-                let n = [
-                    u[1] * w[2] - u[2] * w[1],
-                    u[2] * w[0] - u[0] * w[2],
-                    u[0] * w[1] - u[1] * w[0],
-                ];
-                let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-                n.map(|x| x / l)
-            };
-            // Outward normals of the faces opposite vertices 0..3.
-            let n = [
-                normal(1, 2, 3),
-                normal(0, 3, 2),
-                normal(0, 1, 3),
-                normal(0, 2, 1),
-            ];
-            let mut smallest = 180.0f64;
-            for i in 0..4 {
-                for j in i + 1..4 {
-                    let c = -(n[i][0] * n[j][0] + n[i][1] * n[j][1] + n[i][2] * n[j][2]);
-                    smallest = smallest.min(c.clamp(-1.0, 1.0).acos().to_degrees());
-                }
-            }
-            if smallest.is_finite() {
-                smallest
-            } else {
-                0.0
-            }
-        })
+        .map(|t| dihedral_range(&t.map(|v| a.coords[v as usize])).0)
+        .map(|d| if d.is_finite() { d } else { 0.0 })
         .collect()
 }

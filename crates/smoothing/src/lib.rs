@@ -22,4 +22,6 @@ mod tet;
 pub use laplace::{SmoothError, SmoothStats, Smoother, MAX_HALVINGS};
 pub use laplace3::{DihedralGuard, Smoother3, DEFAULT_DIHEDRAL_FLOOR};
 pub use quality::QualityReport;
-pub use quality3::{QualityReport3, DIHEDRAL_BIN_EDGES, REGULAR_DIHEDRAL, SLIVER_ANGLE};
+pub use quality3::{
+    dihedral_range, QualityReport3, DIHEDRAL_BIN_EDGES, REGULAR_DIHEDRAL, SLIVER_ANGLE,
+};

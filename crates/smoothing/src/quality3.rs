@@ -393,3 +393,9 @@ mod tests {
         assert!((REGULAR_DIHEDRAL - (1.0f64 / 3.0).acos().to_degrees()).abs() < 1e-12);
     }
 }
+
+/// The smallest and largest dihedral angles of the tetrahedron `p`, in degrees (as the report
+/// measures them: accurate near 0° and 180°; a degenerate face gives 0° and 180°).
+pub fn dihedral_range(p: &[[f64; 3]; 4]) -> (f64, f64) {
+    crate::tet::dihedral_extremes(p)
+}
