@@ -19,7 +19,7 @@ use delmesh::demos;
 use delmesh::io::AnyPoly;
 use delmesh::mesh2d::{self, MeshOptions2, Spacing};
 use delmesh::mesh3d::{self, MeshOptions3, Spacing3};
-use delmesh::point_gen::{Adaptation, PointGeneration, PointGeneration3};
+use delmesh::point_gen::{Adaptation, PointGeneration, PointGeneration3, QualityRefinement3};
 use delmesh::recovery::{RecoveryMethod, RecoveryMethod3};
 use delmesh::smoothing::{Smoother, Smoother3};
 
@@ -115,6 +115,10 @@ struct MeshArgs {
     /// Delaunay restoration).
     #[arg(long)]
     no_flips: bool,
+    /// 3D: no radius–edge refinement (circumcentres of tetrahedra whose circumradius exceeds
+    /// twice their shortest edge) after point generation.
+    #[arg(long)]
+    no_refinement: bool,
     /// 3D: the most points surface recovery may add before it stops with an error naming the
     /// facets that resisted.
     #[arg(long, value_name = "N")]
@@ -426,6 +430,7 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
         },
         max_steiner_points: args.max_steiner,
         delaunay: !args.no_flips,
+        refinement: (!args.no_refinement).then(QualityRefinement3::default),
         smoothing: if args.no_smoothing {
             None
         } else {

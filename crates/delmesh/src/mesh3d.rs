@@ -25,7 +25,8 @@ use delmesh_boundary_recovery::{
 };
 use delmesh_io::{SurfaceFile, TetMeshOut};
 use delmesh_point_gen::{
-    Adaptation, BackgroundMesh3, GenerationReport3, PointGeneration3, Source3, SpacingField3,
+    Adaptation, BackgroundMesh3, GenerationReport3, PointGeneration3, QualityRefinement3, Source3,
+    SpacingField3,
 };
 use delmesh_predicates::{orient3d, Sign};
 use delmesh_smoothing::{dihedral_range, QualityReport3, SmoothStats, Smoother3};
@@ -63,6 +64,8 @@ pub struct MeshOptions3 {
     pub sources: Vec<Source3>,
     /// Most points boundary recovery may add before it gives up (`None`: its default bound).
     pub max_steiner_points: Option<usize>,
+    /// Radius–edge refinement after point generation (`None`: none; needs generation).
+    pub refinement: Option<QualityRefinement3>,
     /// Laplacian smoothing of the field points (`None`: no smoothing).
     pub smoothing: Option<Smoother3>,
     /// At the end, triangulate the final points again and recover the refined surface, so the
@@ -79,6 +82,7 @@ impl Default for MeshOptions3 {
             spacing: Spacing3::Boundary,
             sources: Vec::new(),
             max_steiner_points: None,
+            refinement: Some(QualityRefinement3::default()),
             smoothing: Some(Smoother3::new().iterations(SMOOTHING_PASSES)),
             delaunay: true,
         }
@@ -98,6 +102,8 @@ pub struct MeshRun3 {
     pub generation: Option<GenerationReport3>,
     /// The recovery history of the Delaunay restoration, if it ran.
     pub restoration: Option<RecoveryHistory3>,
+    /// Points added by quality refinement.
+    pub refined: usize,
     /// What smoothing did, if it ran.
     pub smoothing: Option<SmoothStats>,
     /// Quality before smoothing (after point generation), if smoothing ran.
@@ -127,6 +133,7 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
     }
     let mut mesh = recovery.run(plc)?;
     lap("boundary recovery", &mut timings);
+    let mut refined = 0;
     let generation = match &options.generation {
         Some(settings) => {
             let mut field = match &options.spacing {
@@ -138,6 +145,10 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
             }
             let report = settings.run(&mut mesh, |p, from_nodes| field.spacing(p, from_nodes))?;
             lap("point generation", &mut timings);
+            if let Some(refinement) = &options.refinement {
+                refined = refinement.run(&mut mesh)?;
+                lap("quality refinement", &mut timings);
+            }
             Some(report)
         }
         None => None,
@@ -168,6 +179,7 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
         arrays,
         generation,
         restoration,
+        refined,
         smoothing,
         quality_before_smoothing,
         quality,
@@ -252,6 +264,12 @@ impl MeshRun3 {
                 "point generation: {} points added, {} refused\n{g}",
                 g.points_added(),
                 g.refused()
+            ));
+        }
+        if self.generation.is_some() {
+            s.push_str(&format!(
+                "quality refinement: {} points added\n",
+                self.refined
             ));
         }
         if let Some(r) = &self.restoration {

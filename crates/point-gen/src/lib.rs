@@ -9,11 +9,13 @@
 mod generate;
 mod generate3;
 mod refine;
+mod refine3;
 mod spacing;
 mod spacing3;
 
 pub use generate::{GenerationPass, GenerationReport, PointGenError, PointGeneration};
 pub use generate3::{GenerationPass3, GenerationReport3, PointGeneration3};
 pub use refine::QualityRefinement;
+pub use refine3::QualityRefinement3;
 pub use spacing::*;
 pub use spacing3::*;
