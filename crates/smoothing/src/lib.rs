@@ -4,9 +4,10 @@
 //! `X ← X + ω·Σ(X_i − X)/M`, for N passes (Gauss–Seidel, in place). A move is kept only if
 //! every triangle around the point stays positively oriented (exact `orient2d`) and keeps a fifth
 //! of its area (no element is badly degraded); otherwise the move is halved, up to
-//! [`MAX_HALVINGS`] times, then skipped. Passes stop early once every move is below a
-//! thousandth of the local edge length. [`QualityReport`] measures a mesh: angles, areas,
-//! the area ratio of neighbours.
+//! [`MAX_HALVINGS`] times, then skipped. Passes stop early once no point moves by more than
+//! 0.5% of the root mean square length of its edges. Points whose triangles do not close
+//! around them are on the boundary and stay fixed too. [`QualityReport`] measures a mesh:
+//! angles, areas, the area ratio of neighbours.
 
 mod laplace;
 mod quality;

@@ -96,6 +96,48 @@ fn a_point_that_plain_laplace_would_push_out_stays_inside() {
 }
 
 #[test]
+fn an_unflagged_point_on_the_border_stays_fixed() {
+    // No point is flagged, but the border points' triangles do not close around them: they are
+    // boundary and must not move (the domain keeps its shape and area).
+    let (mut pts, tris, fixed) = jittered_grid(12, 0.2, 3);
+    let original = pts.clone();
+    let none = vec![false; pts.len()];
+    let stats = Smoother::new().smooth(&mut pts, &tris, &none).unwrap();
+    assert!(stats.moved > 0);
+    for (i, &border) in fixed.iter().enumerate() {
+        if border {
+            assert_eq!(pts[i], original[i], "border point {i} moved");
+        }
+    }
+    assert!(all_positive(&pts, &tris));
+    assert!((QualityReport::of_triangles(&pts, &tris).total_area - 144.0).abs() < 1e-9);
+}
+
+#[test]
+fn the_same_result_whatever_the_number_of_threads() {
+    // Large enough that each colour is split into parallel chunks.
+    let (pts, tris, fixed) = jittered_grid(90, 0.25, 11);
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut p = pts.clone();
+        let stats = pool.install(|| Smoother::new().smooth(&mut p, &tris, &fixed).unwrap());
+        (p, stats)
+    };
+    let (one, stats_one) = run(1);
+    for threads in [2, 3] {
+        let (many, stats_many) = run(threads);
+        assert_eq!(stats_one, stats_many);
+        assert!(one
+            .iter()
+            .zip(&many)
+            .all(|(a, b)| a[0].to_bits() == b[0].to_bits() && a[1].to_bits() == b[1].to_bits()));
+    }
+}
+
+#[test]
 fn bad_input_is_an_error() {
     assert_eq!(Smoother::new().omega(0.0), Err(SmoothError::BadOmega(0.0)));
     assert!(Smoother::new().omega(f64::NAN).is_err());
