@@ -66,11 +66,12 @@ impl Mesh2 {
                 used[v.index()] = true;
             }
         }
-        let mut order: Vec<VertexId> = (0..nv as u32)
-            .map(VertexId)
-            .filter(|v| used[v.index()])
-            .collect();
-        order.sort_by_key(|&v| tri.input_index(v));
+        // In input order: each vertex has its own input index, so placing them by it sorts.
+        let mut by_input = vec![VertexId::GHOST; tri.num_input_points()];
+        for v in (0..nv as u32).map(VertexId).filter(|v| used[v.index()]) {
+            by_input[tri.input_index(v)] = v;
+        }
+        let order: Vec<VertexId> = by_input.into_iter().filter(|v| !v.is_ghost()).collect();
         let mut number = vec![u32::MAX; nv];
         for (k, &v) in order.iter().enumerate() {
             number[v.index()] = k as u32;

@@ -163,6 +163,80 @@ fn quality_report_snapshot() {
     assert_eq!(QualityReport::of_triangles(&pts, &[]).elements, 0);
 }
 
+#[test]
+fn quality_report_matches_a_direct_computation_whatever_the_threads() {
+    // More triangles than one parallel task takes.
+    let (pts, tris, _) = jittered_grid(130, 0.25, 5);
+    let angles = |t: &[u32; 3]| -> [f64; 3] {
+        let p = t.map(|v| pts[v as usize]);
+        std::array::from_fn(|k| {
+            let (o, u, w) = (p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
+            let (ux, uy, wx, wy) = (u[0] - o[0], u[1] - o[1], w[0] - o[0], w[1] - o[1]);
+            (ux * wy - uy * wx)
+                .abs()
+                .atan2(ux * wx + uy * wy)
+                .to_degrees()
+        })
+    };
+    let area = |t: &[u32; 3]| {
+        let p = t.map(|v| pts[v as usize]);
+        0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+            - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]))
+    };
+    let mins: Vec<f64> = tris
+        .iter()
+        .map(|t| angles(t).into_iter().fold(180.0, f64::min))
+        .collect();
+    let max = tris.iter().flat_map(angles).fold(0.0, f64::max);
+    let mut sides: std::collections::BTreeMap<(u32, u32), Vec<usize>> = Default::default();
+    for (k, t) in tris.iter().enumerate() {
+        for e in 0..3 {
+            let (a, b) = (t[e], t[(e + 1) % 3]);
+            sides.entry((a.min(b), a.max(b))).or_default().push(k);
+        }
+    }
+    let ratios: Vec<f64> = sides
+        .values()
+        .filter(|s| s.len() == 2)
+        .map(|s| {
+            let (x, y) = (area(&tris[s[0]]).abs(), area(&tris[s[1]]).abs());
+            x.max(y) / x.min(y)
+        })
+        .collect();
+    let reports: Vec<QualityReport> = [1, 3]
+        .iter()
+        .map(|&n| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap();
+            pool.install(|| QualityReport::of_triangles(&pts, &tris))
+        })
+        .collect();
+    assert_eq!(reports[0], reports[1]);
+    let q = &reports[0];
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1.0);
+    assert!(close(
+        q.min_angle,
+        mins.iter().copied().fold(180.0, f64::min)
+    ));
+    assert!(close(q.max_angle, max));
+    assert!(close(
+        q.mean_min_angle,
+        mins.iter().sum::<f64>() / mins.len() as f64
+    ));
+    assert_eq!(q.min_angle_histogram.iter().sum::<usize>(), tris.len());
+    assert!(close(
+        q.max_neighbour_area_ratio,
+        ratios.iter().copied().fold(1.0, f64::max)
+    ));
+    assert!(close(
+        q.mean_neighbour_area_ratio,
+        ratios.iter().sum::<f64>() / ratios.len() as f64
+    ));
+    assert!(close(q.total_area, 130.0 * 130.0));
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(40))]
     #[test]
