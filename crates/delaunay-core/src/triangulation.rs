@@ -840,6 +840,12 @@ impl<D: Dim> Triangulation<D> {
             .filter(|c| self.simplices[c.index()].v[0] != VertexId::DEAD)
     }
 
+    /// Whether cell slot `c` holds a cell (finite or ghost), rather than being free.
+    #[inline]
+    pub fn is_live(&self, c: CellId) -> bool {
+        self.simplices[c.index()].v[0] != VertexId::DEAD
+    }
+
     /// The finite cells (triangles or tetrahedra), each positively oriented.
     pub fn cells(&self) -> impl Iterator<Item = CellId> + '_ {
         self.all_cells().filter(|&c| !self.is_ghost(c))
