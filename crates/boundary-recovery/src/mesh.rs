@@ -28,6 +28,9 @@ pub struct MeshArrays {
     pub edge_markers: Vec<i32>,
     /// The triangulation vertex of each output vertex.
     pub vertex: Vec<VertexId>,
+    /// For each triangle, the triangle across its edge `(t[e], t[(e + 1) % 3])`, or `u32::MAX`
+    /// where the other side is not in the mesh.
+    pub neighbours: Vec<[u32; 3]>,
 }
 
 impl Mesh2 {
@@ -37,6 +40,13 @@ impl Mesh2 {
             .triangulation()
             .cells()
             .filter(|&c| self.cdt.tag(c) != OUTSIDE)
+    }
+
+    /// Whether cell slot `c` holds an element (a finite cell inside the domain).
+    #[inline]
+    pub fn is_element(&self, c: CellId) -> bool {
+        let tri = self.cdt.triangulation();
+        tri.is_live(c) && !tri.is_ghost(c) && self.cdt.tag(c) != OUTSIDE
     }
 
     /// Number of elements.
@@ -83,8 +93,12 @@ impl Mesh2 {
             vertex: order.clone(),
             ..Default::default()
         };
+        let mut triangle_of = vec![u32::MAX; self.cdt.num_cell_slots()];
+        let mut cells = Vec::new();
         for c in self.elements() {
             let v = tri.cell(c);
+            triangle_of[c.index()] = out.triangles.len() as u32;
+            cells.push(c);
             out.triangles.push([
                 number[v[0].index()],
                 number[v[1].index()],
@@ -94,6 +108,16 @@ impl Mesh2 {
             out.regions
                 .push(self.region_attributes.get(tag).copied().unwrap_or(0.0));
         }
+        // Edge (v[e], v[e + 1]) is the facet opposite local vertex e + 2.
+        out.neighbours = cells
+            .iter()
+            .map(|&c| {
+                std::array::from_fn(|e| {
+                    let n = tri.neighbor_facet(c, (e + 2) % 3).cell();
+                    triangle_of[n.index()]
+                })
+            })
+            .collect();
         for e in &self.edges {
             let (a, b) = (number[e.a.index()], number[e.b.index()]);
             if a == u32::MAX || b == u32::MAX {

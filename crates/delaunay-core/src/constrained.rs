@@ -42,6 +42,8 @@ pub struct ConstrainedTriangulation2 {
     stamps: Vec<u32>,
     /// The current epoch.
     epoch: u32,
+    /// If on: the cells changed in the current epoch, each once, in order of first change.
+    log: Option<Vec<CellId>>,
     /// Edges still to test during Lawson flipping.
     stack: Vec<FacetRef>,
 }
@@ -88,6 +90,7 @@ impl ConstrainedTriangulation2 {
             tags: vec![0; n],
             stamps: vec![0; n],
             epoch: 0,
+            log: None,
             stack: Vec::new(),
         }
     }
@@ -124,9 +127,26 @@ impl ConstrainedTriangulation2 {
     /// Starts a new epoch and returns it: from now on, every cell created or changed (its
     /// vertices, neighbours, constraints, tag, or the position of one of its vertices) is
     /// stamped with it. Epochs start at 0 when the triangulation is wrapped.
-    pub fn next_epoch(&mut self) -> u32 {
+    ///
+    /// With `log`, the cells changed during the new epoch are also recorded, each once in
+    /// order of first change, until [`Self::take_changed`] (or the next epoch) ends the record.
+    pub fn next_epoch(&mut self, log: bool) -> u32 {
         self.epoch += 1;
+        self.log = log.then(Vec::new);
         self.epoch
+    }
+
+    /// The current epoch.
+    #[inline]
+    pub fn changed_in_epoch(&self) -> u32 {
+        self.epoch
+    }
+
+    /// The cells changed in the current epoch so far, each once, in order of first change (a
+    /// slot may have changed again since, or be free): empty unless the epoch was started with
+    /// `log`. Ends the record.
+    pub fn take_changed(&mut self) -> Vec<CellId> {
+        self.log.take().unwrap_or_default()
     }
 
     /// The epoch in which cell slot `c` was last created or changed: a cell whose epoch is
@@ -144,7 +164,13 @@ impl ConstrainedTriangulation2 {
 
     #[inline]
     fn touch(&mut self, c: CellId) {
-        self.stamps[c.index()] = self.epoch;
+        let stamp = &mut self.stamps[c.index()];
+        if *stamp != self.epoch {
+            *stamp = self.epoch;
+            if let Some(log) = &mut self.log {
+                log.push(c);
+            }
+        }
     }
 
     /// The constrained edges, each once, as vertex pairs.
@@ -724,16 +750,24 @@ impl ConstrainedTriangulation2 {
             }
             return Err(ConstraintError::InvalidMove { vertex: first });
         }
-        let epoch = self.epoch;
-        self.stamps
-            .par_iter_mut()
-            .zip(self.tri.simplices.par_iter())
-            .with_min_len(1 << 12)
-            .for_each(|(stamp, s)| {
-                if touches(s) {
-                    *stamp = epoch;
+        if self.log.is_some() {
+            for c in (0..self.tri.simplices.len() as u32).map(CellId) {
+                if touches(&self.tri.simplices[c.index()]) {
+                    self.touch(c);
                 }
-            });
+            }
+        } else {
+            let epoch = self.epoch;
+            self.stamps
+                .par_iter_mut()
+                .zip(self.tri.simplices.par_iter())
+                .with_min_len(1 << 12)
+                .for_each(|(stamp, s)| {
+                    if touches(s) {
+                        *stamp = epoch;
+                    }
+                });
+        }
         Ok(())
     }
 

@@ -97,10 +97,10 @@ struct MeshArgs {
     #[arg(long, value_name = "H")]
     max_spacing: Option<f64>,
     /// Smoothing relaxation factor ω (paper: 0.05–0.25).
-    #[arg(long, default_value_t = 0.2)]
+    #[arg(long, default_value_t = delmesh::smoothing::DEFAULT_OMEGA)]
     omega: f64,
     /// Smoothing passes N (paper: 20–50).
-    #[arg(long, default_value_t = 30)]
+    #[arg(long, default_value_t = delmesh::smoothing::DEFAULT_ITERATIONS)]
     iterations: usize,
     /// No smoothing.
     #[arg(long)]

@@ -107,8 +107,36 @@ fn corner(p: [[f64; 2]; 3], k: usize) -> f64 {
 }
 
 impl QualityReport {
-    /// Measures the triangles (counter-clockwise, indexing `points`).
+    /// Measures the triangles (counter-clockwise, indexing `points`). Triangles sharing an
+    /// edge are found from the vertices; [`Self::of_mesh`] is faster when they are known.
     pub fn of_triangles(points: &[[f64; 2]], triangles: &[[u32; 3]]) -> QualityReport {
+        Self::measure(points, triangles, None)
+    }
+
+    /// As [`Self::of_triangles`], with `neighbours[t][e]` the triangle across edge
+    /// `(triangles[t][e], triangles[t][(e + 1) % 3])`, or `u32::MAX` on the border. The shared
+    /// edges are then visited by triangle (same figures, summed in another order).
+    ///
+    /// # Panics
+    /// If `neighbours` is not as long as `triangles`.
+    pub fn of_mesh(
+        points: &[[f64; 2]],
+        triangles: &[[u32; 3]],
+        neighbours: &[[u32; 3]],
+    ) -> QualityReport {
+        assert_eq!(
+            neighbours.len(),
+            triangles.len(),
+            "one neighbour row per triangle"
+        );
+        Self::measure(points, triangles, Some(neighbours))
+    }
+
+    fn measure(
+        points: &[[f64; 2]],
+        triangles: &[[u32; 3]],
+        neighbours: Option<&[[u32; 3]]>,
+    ) -> QualityReport {
         let mut r = QualityReport {
             elements: triangles.len(),
             ..Default::default()
@@ -152,7 +180,10 @@ impl QualityReport {
         r.mean_min_angle = sum_min / triangles.len() as f64;
         r.min_area = amin;
         r.max_area = amax;
-        let (worst, sum, count) = neighbour_ratios(points.len(), triangles, &areas);
+        let (worst, sum, count) = match neighbours {
+            Some(across) => ratios_across(across, &areas),
+            None => neighbour_ratios(points.len(), triangles, &areas),
+        };
         r.max_neighbour_area_ratio = worst;
         r.mean_neighbour_area_ratio = if count > 0 { sum / count as f64 } else { 1.0 };
         r
@@ -266,6 +297,36 @@ fn neighbour_ratios(n: usize, triangles: &[[u32; 3]], areas: &[f64]) -> (f64, f6
                 for w in row.windows(2) {
                     if w[0].0 == w[1].0 {
                         let (x, y) = (areas[w[0].1 as usize].abs(), areas[w[1].1 as usize].abs());
+                        let ratio = x.max(y) / x.min(y);
+                        worst = worst.max(ratio);
+                        sum += ratio;
+                        count += 1;
+                    }
+                }
+            }
+            (worst, sum, count)
+        })
+        .collect();
+    parts
+        .into_iter()
+        .fold((1.0f64, 0.0, 0usize), |(w, s, c), p| {
+            (w.max(p.0), s + p.1, c + p.2)
+        })
+}
+
+/// As [`neighbour_ratios`], from the triangles across each edge: each shared edge is visited
+/// from its triangle with the smaller index, in parallel chunks summed in order.
+fn ratios_across(across: &[[u32; 3]], areas: &[f64]) -> (f64, f64, usize) {
+    let parts: Vec<(f64, f64, usize)> = across
+        .par_chunks(CHUNK)
+        .enumerate()
+        .map(|(c, rows)| {
+            let (mut worst, mut sum, mut count) = (1.0f64, 0.0, 0usize);
+            for (i, row) in rows.iter().enumerate() {
+                let t = c * CHUNK + i;
+                for &n in row {
+                    if n != u32::MAX && (n as usize) > t && (n as usize) < areas.len() {
+                        let (x, y) = (areas[t].abs(), areas[n as usize].abs());
                         let ratio = x.max(y) / x.min(y);
                         worst = worst.max(ratio);
                         sum += ratio;

@@ -235,10 +235,55 @@ fn quality_report_matches_a_direct_computation_whatever_the_threads() {
         ratios.iter().sum::<f64>() / ratios.len() as f64
     ));
     assert!(close(q.total_area, 130.0 * 130.0));
+    // With the neighbours given: the same figures.
+    let across: Vec<[u32; 3]> = tris
+        .iter()
+        .enumerate()
+        .map(|(k, t)| {
+            std::array::from_fn(|e| {
+                let (a, b) = (t[e], t[(e + 1) % 3]);
+                let side = &sides[&(a.min(b), a.max(b))];
+                side.iter()
+                    .find(|&&o| o != k)
+                    .map_or(u32::MAX, |&o| o as u32)
+            })
+        })
+        .collect();
+    let m = QualityReport::of_mesh(&pts, &tris, &across);
+    assert_eq!(
+        (m.min_angle, m.max_angle, m.mean_min_angle),
+        (q.min_angle, q.max_angle, q.mean_min_angle)
+    );
+    assert_eq!(m.max_neighbour_area_ratio, q.max_neighbour_area_ratio);
+    assert!(close(
+        m.mean_neighbour_area_ratio,
+        q.mean_neighbour_area_ratio
+    ));
+}
+
+/// The smallest angle (degrees) of the triangles with at least one free point.
+fn free_min_angle(pts: &[[f64; 2]], tris: &[[u32; 3]], fixed: &[bool]) -> f64 {
+    tris.iter()
+        .filter(|t| t.iter().any(|&v| !fixed[v as usize]))
+        .map(|t| QualityReport::of_triangles(pts, &[*t]).min_angle)
+        .fold(180.0, f64::min)
 }
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(40))]
+    #[test]
+    fn smoothing_never_sharpens_below_thirty_degrees(seed in 0u64..10_000, k in 2usize..10, jitter in 0.0f64..0.25, omega in 0.05f64..1.0) {
+        // Each move keeps its star's smallest angle at least as large as before, or at least
+        // 30°: so the smallest angle of the triangles that can change never falls below
+        // min(its start value, 30°).
+        let (mut pts, tris, fixed) = jittered_grid(k, jitter, seed);
+        prop_assume!(all_positive(&pts, &tris));
+        let before = free_min_angle(&pts, &tris, &fixed);
+        Smoother::new().omega(omega).unwrap().iterations(20).smooth(&mut pts, &tris, &fixed).unwrap();
+        let after = free_min_angle(&pts, &tris, &fixed);
+        prop_assert!(after >= before.min(30.0) - 1e-9, "{before} -> {after}");
+    }
+
     #[test]
     fn smoothing_never_inverts(seed in 0u64..10_000, k in 2usize..12, jitter in 0.0f64..0.25, omega in 0.01f64..1.0) {
         let (mut pts, tris, fixed) = jittered_grid(k, jitter, seed);
