@@ -4,6 +4,7 @@
 use crate::classify::OUTSIDE;
 use crate::recovery::Mesh2;
 use delmesh_delaunay_core::{CellId, VertexId};
+use rayon::prelude::*;
 
 /// A mesh as flat arrays, vertices renumbered: input points first in input order, then the
 /// points added by recovery and generation in order of creation. Vertices used by no element
@@ -66,12 +67,23 @@ impl Mesh2 {
             .sum()
     }
 
+    /// The elements in slot order (the slots are scanned in parallel).
+    pub fn element_list(&self) -> Vec<CellId> {
+        (0..self.cdt.num_cell_slots() as u32)
+            .into_par_iter()
+            .with_min_len(1 << 12)
+            .map(CellId)
+            .filter(|&c| self.is_element(c))
+            .collect()
+    }
+
     /// The mesh as flat arrays (see [`MeshArrays`]).
     pub fn to_arrays(&self) -> MeshArrays {
         let tri = self.cdt.triangulation();
         let nv = tri.num_vertices();
+        let cells = self.element_list();
         let mut used = vec![false; nv];
-        for c in self.elements() {
+        for &c in &cells {
             for &v in tri.cell(c) {
                 used[v.index()] = true;
             }
@@ -86,38 +98,44 @@ impl Mesh2 {
         for (k, &v) in order.iter().enumerate() {
             number[v.index()] = k as u32;
         }
+        let mut triangle_of = vec![u32::MAX; self.cdt.num_cell_slots()];
+        for (k, &c) in cells.iter().enumerate() {
+            triangle_of[c.index()] = k as u32;
+        }
         let mut out = MeshArrays {
-            coords: order.iter().map(|&v| tri.vertex(v)).collect(),
+            coords: order.par_iter().map(|&v| tri.vertex(v)).collect(),
             point_markers: vec![0; order.len()],
             on_boundary: vec![false; order.len()],
+            triangles: cells
+                .par_iter()
+                .map(|&c| {
+                    let v = tri.cell(c);
+                    [
+                        number[v[0].index()],
+                        number[v[1].index()],
+                        number[v[2].index()],
+                    ]
+                })
+                .collect(),
+            regions: cells
+                .par_iter()
+                .map(|&c| {
+                    let tag = self.cdt.tag(c) as usize;
+                    self.region_attributes.get(tag).copied().unwrap_or(0.0)
+                })
+                .collect(),
+            // Edge (v[e], v[e + 1]) is the facet opposite local vertex e + 2.
+            neighbours: cells
+                .par_iter()
+                .map(|&c| {
+                    std::array::from_fn(|e| {
+                        triangle_of[tri.neighbor_facet(c, (e + 2) % 3).cell().index()]
+                    })
+                })
+                .collect(),
             vertex: order.clone(),
             ..Default::default()
         };
-        let mut triangle_of = vec![u32::MAX; self.cdt.num_cell_slots()];
-        let mut cells = Vec::new();
-        for c in self.elements() {
-            let v = tri.cell(c);
-            triangle_of[c.index()] = out.triangles.len() as u32;
-            cells.push(c);
-            out.triangles.push([
-                number[v[0].index()],
-                number[v[1].index()],
-                number[v[2].index()],
-            ]);
-            let tag = self.cdt.tag(c) as usize;
-            out.regions
-                .push(self.region_attributes.get(tag).copied().unwrap_or(0.0));
-        }
-        // Edge (v[e], v[e + 1]) is the facet opposite local vertex e + 2.
-        out.neighbours = cells
-            .iter()
-            .map(|&c| {
-                std::array::from_fn(|e| {
-                    let n = tri.neighbor_facet(c, (e + 2) % 3).cell();
-                    triangle_of[n.index()]
-                })
-            })
-            .collect();
         for e in &self.edges {
             let (a, b) = (number[e.a.index()], number[e.b.index()]);
             if a == u32::MAX || b == u32::MAX {

@@ -152,14 +152,18 @@ impl PointGeneration {
             // Every candidate of the pass, evaluated in parallel on the mesh as it is now, then
             // visited in Hilbert order of the candidates.
             let dp_now: &[f64] = &dp;
-            let evaluated: Vec<(CellId, Candidate)> = cells
+            let frame = &frame;
+            let evaluated: Vec<(u64, CellId, Candidate)> = cells
                 .par_iter()
                 .with_min_len(1 << 10)
-                .map(|&c| (c, self.candidate(mesh, c, dp_now, field)))
-                .filter(|(_, k)| !matches!(k, Candidate::Refused))
+                .filter_map(|&c| match self.candidate(mesh, c, dp_now, field) {
+                    Candidate::Refused => None,
+                    k @ Candidate::At { g, .. } => Some((frame.key(g), c, k)),
+                    k => Some((0, c, k)),
+                })
                 .collect();
             let mut todo = Vec::with_capacity(evaluated.len());
-            for (c, k) in evaluated {
+            for (key, c, k) in evaluated {
                 match k {
                     Candidate::BadSpacing { value, at } => {
                         return Err(PointGenError::BadSpacing {
@@ -168,7 +172,7 @@ impl PointGeneration {
                             y: at[1],
                         })
                     }
-                    Candidate::At { g, h, reach2 } => todo.push((frame.key(g), c, g, h, reach2)),
+                    Candidate::At { g, h, reach2 } => todo.push((key, c, g, h, reach2)),
                     Candidate::Refused => {}
                 }
             }
