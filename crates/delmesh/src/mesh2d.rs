@@ -127,7 +127,7 @@ pub fn mesh_plc(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Error> {
                 Spacing::Background(bg) => SpacingField::background(bg.clone()),
             };
             for s in &options.sources {
-                field = field.with_source(s.clone());
+                field = field.with_source(*s);
             }
             let report = settings.run(&mut mesh, &field)?;
             lap("point generation", &mut timings);

@@ -457,7 +457,9 @@ impl Layout {
         // Rings of the free points whose corners chain into one closed cycle (Z numbering);
         // the others stay fixed.
         // (In parallel chunks of points, concatenated in order.)
-        let parts: Vec<(Vec<u32>, Vec<(u32, u32)>)> = (0..n.div_ceil(RING_CHUNK))
+        // Each chunk's rings, and its free points with where their rings start.
+        type Part = (Vec<u32>, Vec<(u32, u32)>);
+        let parts: Vec<Part> = (0..n.div_ceil(RING_CHUNK))
             .into_par_iter()
             .map(|k| {
                 let (mut rings, mut free) = (Vec::new(), Vec::new());
