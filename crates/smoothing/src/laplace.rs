@@ -3,15 +3,21 @@
 //! The passes run on a private copy laid out for them:
 //! - each free point's neighbours are one row, in counter-clockwise order around it, so the
 //!   mean and the triangles of its star (consecutive neighbours) come from the same few loads;
-//! - the free points are coloured so that no two of one colour share an edge, and numbered
-//!   colour by colour (in Z-order within a colour): the moves of one colour read only points of
-//!   other colours, so they are computed in parallel into a scratch slice and copied back in one
-//!   block. That is Gauss–Seidel in colour order, with the same result whatever the number of
-//!   threads, and no allocation per pass.
+//! - the free points, in Z-order, are cut into tiles of [`TILE`] points. A tile's inner points
+//!   (all of whose free neighbours are in the tile) are smoothed Gauss–Seidel, in place, on a
+//!   buffer holding the tile and the few points around it, which stays in cache; the tiles run
+//!   in parallel, since no triangle has inner points of two tiles;
+//! - the points on the seams between tiles are coloured so that no two of one colour share an
+//!   edge, and numbered colour by colour: the moves of one colour read only points that do not
+//!   move, so they are computed in parallel into a scratch slice and copied back in one block.
+//!
+//! That is Gauss–Seidel in a fixed order, with the same result whatever the number of threads,
+//! and no allocation per pass.
 //!
 //! A move is tested with the floating-point area of each triangle of the star and Shewchuk's
 //! error bound for that very expression: only when the bound cannot certify the sign does the
-//! exact `orient2d` decide, so no accepted move ever inverts an element.
+//! exact `orient2d` decide, so no accepted move ever inverts an element. A move must also keep
+//! the smallest angle of the star at 30° or at what it was ([`SIN2_GUARD`]).
 //!
 //! A point whose triangles do not close around it (on the border of the triangles, or where
 //! two fans touch) has no well-defined star to keep valid: it is boundary and stays fixed.
