@@ -143,7 +143,7 @@ fn circle(p: [[f64; 3]; 3]) -> Option<([f64; 3], f64, [f64; 3])> {
         u[0] * v[1] - u[1] * v[0],
     ];
     let n2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-    if !(n2 > 0.0) {
+    if n2.is_nan() || n2 <= 0.0 {
         return None;
     }
     let (u2, v2) = (

@@ -37,18 +37,24 @@ struct Grid {
 }
 
 impl Grid {
-    /// Buckets each item's bounding box. Cells are about as large as the mean box (so long
-    /// segments touch few cells) and there are about as many as items.
+    /// Buckets each item's bounding box. Cells are about as large as the median box (so most
+    /// segments touch few cells, and a few long ones, like a far field's, do not make the cells
+    /// of a finely divided body huge), with at most 16 cells per item.
     fn new(boxes: &[([f64; 2], [f64; 2])], lo: [f64; 2], hi: [f64; 2]) -> Grid {
-        let mean = boxes
+        let mut sizes: Vec<f64> = boxes
             .iter()
             .map(|b| (b.1[0] - b.0[0]).max(b.1[1] - b.0[1]))
-            .sum::<f64>()
-            / boxes.len().max(1) as f64;
+            .collect();
+        let mid = sizes.len() / 2;
+        let median = if sizes.is_empty() {
+            0.0
+        } else {
+            *sizes.select_nth_unstable_by(mid, f64::total_cmp).1
+        };
         let extent = (hi[0] - lo[0]).max(hi[1] - lo[1]);
-        let by_count = (boxes.len() as f64).sqrt().ceil();
-        let by_size = if mean > 0.0 {
-            (extent / mean).ceil()
+        let by_count = 4.0 * (boxes.len() as f64).sqrt().ceil();
+        let by_size = if median > 0.0 {
+            (extent / median).ceil()
         } else {
             by_count
         };

@@ -4,6 +4,7 @@
 use crate::classify::OUTSIDE;
 use crate::recovery::Mesh2;
 use delmesh_delaunay_core::{CellId, VertexId};
+use rayon::prelude::*;
 
 /// A mesh as flat arrays, vertices renumbered: input points first in input order, then the
 /// points added by recovery and generation in order of creation. Vertices used by no element
@@ -28,6 +29,9 @@ pub struct MeshArrays {
     pub edge_markers: Vec<i32>,
     /// The triangulation vertex of each output vertex.
     pub vertex: Vec<VertexId>,
+    /// For each triangle, the triangle across its edge `(t[e], t[(e + 1) % 3])`, or `u32::MAX`
+    /// where the other side is not in the mesh.
+    pub neighbours: Vec<[u32; 3]>,
 }
 
 impl Mesh2 {
@@ -37,6 +41,13 @@ impl Mesh2 {
             .triangulation()
             .cells()
             .filter(|&c| self.cdt.tag(c) != OUTSIDE)
+    }
+
+    /// Whether cell slot `c` holds an element (a finite cell inside the domain).
+    #[inline]
+    pub fn is_element(&self, c: CellId) -> bool {
+        let tri = self.cdt.triangulation();
+        tri.is_live(c) && !tri.is_ghost(c) && self.cdt.tag(c) != OUTSIDE
     }
 
     /// Number of elements.
@@ -56,43 +67,75 @@ impl Mesh2 {
             .sum()
     }
 
+    /// The elements in slot order (the slots are scanned in parallel).
+    pub fn element_list(&self) -> Vec<CellId> {
+        (0..self.cdt.num_cell_slots() as u32)
+            .into_par_iter()
+            .with_min_len(1 << 12)
+            .map(CellId)
+            .filter(|&c| self.is_element(c))
+            .collect()
+    }
+
     /// The mesh as flat arrays (see [`MeshArrays`]).
     pub fn to_arrays(&self) -> MeshArrays {
         let tri = self.cdt.triangulation();
         let nv = tri.num_vertices();
+        let cells = self.element_list();
         let mut used = vec![false; nv];
-        for c in self.elements() {
+        for &c in &cells {
             for &v in tri.cell(c) {
                 used[v.index()] = true;
             }
         }
-        let mut order: Vec<VertexId> = (0..nv as u32)
-            .map(VertexId)
-            .filter(|v| used[v.index()])
-            .collect();
-        order.sort_by_key(|&v| tri.input_index(v));
+        // In input order: each vertex has its own input index, so placing them by it sorts.
+        let mut by_input = vec![VertexId::GHOST; tri.num_input_points()];
+        for v in (0..nv as u32).map(VertexId).filter(|v| used[v.index()]) {
+            by_input[tri.input_index(v)] = v;
+        }
+        let order: Vec<VertexId> = by_input.into_iter().filter(|v| !v.is_ghost()).collect();
         let mut number = vec![u32::MAX; nv];
         for (k, &v) in order.iter().enumerate() {
             number[v.index()] = k as u32;
         }
+        let mut triangle_of = vec![u32::MAX; self.cdt.num_cell_slots()];
+        for (k, &c) in cells.iter().enumerate() {
+            triangle_of[c.index()] = k as u32;
+        }
         let mut out = MeshArrays {
-            coords: order.iter().map(|&v| tri.vertex(v)).collect(),
+            coords: order.par_iter().map(|&v| tri.vertex(v)).collect(),
             point_markers: vec![0; order.len()],
             on_boundary: vec![false; order.len()],
+            triangles: cells
+                .par_iter()
+                .map(|&c| {
+                    let v = tri.cell(c);
+                    [
+                        number[v[0].index()],
+                        number[v[1].index()],
+                        number[v[2].index()],
+                    ]
+                })
+                .collect(),
+            regions: cells
+                .par_iter()
+                .map(|&c| {
+                    let tag = self.cdt.tag(c) as usize;
+                    self.region_attributes.get(tag).copied().unwrap_or(0.0)
+                })
+                .collect(),
+            // Edge (v[e], v[e + 1]) is the facet opposite local vertex e + 2.
+            neighbours: cells
+                .par_iter()
+                .map(|&c| {
+                    std::array::from_fn(|e| {
+                        triangle_of[tri.neighbor_facet(c, (e + 2) % 3).cell().index()]
+                    })
+                })
+                .collect(),
             vertex: order.clone(),
             ..Default::default()
         };
-        for c in self.elements() {
-            let v = tri.cell(c);
-            out.triangles.push([
-                number[v[0].index()],
-                number[v[1].index()],
-                number[v[2].index()],
-            ]);
-            let tag = self.cdt.tag(c) as usize;
-            out.regions
-                .push(self.region_attributes.get(tag).copied().unwrap_or(0.0));
-        }
         for e in &self.edges {
             let (a, b) = (number[e.a.index()], number[e.b.index()]);
             if a == u32::MAX || b == u32::MAX {

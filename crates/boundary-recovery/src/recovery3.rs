@@ -655,7 +655,7 @@ impl<'a> State<'a> {
                 });
             }
             let mut fs = [(0u32, false); 3];
-            for k in 0..3 {
+            for (k, slot) in fs.iter_mut().enumerate() {
                 let (p, q) = (t.v[k], t.v[(k + 1) % 3]);
                 // Segments are keyed by vertex (duplicate input points share one).
                 let (vp, vq) = (v(p), v(q));
@@ -668,7 +668,7 @@ impl<'a> State<'a> {
                     });
                     segs.len() as u32 - 1
                 });
-                fs[k] = (id, v(segs[id as usize].a) != vp);
+                *slot = (id, v(segs[id as usize].a) != vp);
             }
             facs.push(Fac {
                 corners: t.v,

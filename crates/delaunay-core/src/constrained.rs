@@ -14,13 +14,15 @@
 //! constraints, whatever the order of operations.
 //!
 //! Each cell also carries a `u32` tag (mesh generation's region), which the cells made from it by
-//! splits and flips inherit.
+//! splits and flips inherit, and the epoch in which it last changed ([`Self::next_epoch`]), so
+//! that passes over the mesh (point generation, refinement) can revisit only what changed.
 
 use crate::dim::{Dim, D2};
 use crate::error::{ConstraintError, TriangulationError};
 use crate::ids::{CellId, FacetRef, VertexId};
 use crate::triangulation::{Insertion, Location, Triangulation};
 use delmesh_predicates::{orient2d, Sign};
+use rayon::prelude::*;
 use std::collections::VecDeque;
 
 /// A 2D triangulation with constrained edges and a tag per cell.
@@ -36,6 +38,12 @@ pub struct ConstrainedTriangulation2 {
     constrained: Vec<u8>,
     /// Per cell slot: the caller's tag.
     tags: Vec<u32>,
+    /// Per cell slot: the epoch in which the cell was last created or changed.
+    stamps: Vec<u32>,
+    /// The current epoch.
+    epoch: u32,
+    /// If on: the cells changed in the current epoch, each once, in order of first change.
+    log: Option<Vec<CellId>>,
     /// Edges still to test during Lawson flipping.
     stack: Vec<FacetRef>,
 }
@@ -80,6 +88,9 @@ impl ConstrainedTriangulation2 {
             tri,
             constrained: vec![0; n],
             tags: vec![0; n],
+            stamps: vec![0; n],
+            epoch: 0,
+            log: None,
             stack: Vec::new(),
         }
     }
@@ -110,6 +121,56 @@ impl ConstrainedTriangulation2 {
     #[inline]
     pub fn set_tag(&mut self, c: CellId, tag: u32) {
         self.tags[c.index()] = tag;
+        self.touch(c);
+    }
+
+    /// Starts a new epoch and returns it: from now on, every cell created or changed (its
+    /// vertices, neighbours, constraints, tag, or the position of one of its vertices) is
+    /// stamped with it. Epochs start at 0 when the triangulation is wrapped.
+    ///
+    /// With `log`, the cells changed during the new epoch are also recorded, each once in
+    /// order of first change, until [`Self::take_changed`] (or the next epoch) ends the record.
+    pub fn next_epoch(&mut self, log: bool) -> u32 {
+        self.epoch += 1;
+        self.log = log.then(Vec::new);
+        self.epoch
+    }
+
+    /// The current epoch.
+    #[inline]
+    pub fn changed_in_epoch(&self) -> u32 {
+        self.epoch
+    }
+
+    /// The cells changed in the current epoch so far, each once, in order of first change (a
+    /// slot may have changed again since, or be free): empty unless the epoch was started with
+    /// `log`. Ends the record.
+    pub fn take_changed(&mut self) -> Vec<CellId> {
+        self.log.take().unwrap_or_default()
+    }
+
+    /// The epoch in which cell slot `c` was last created or changed: a cell whose epoch is
+    /// older than some epoch `e` is exactly as it was when `e` began.
+    #[inline]
+    pub fn changed_in(&self, c: CellId) -> u32 {
+        self.stamps[c.index()]
+    }
+
+    /// Number of cell slots (live, ghost or free): cell ids are below it.
+    #[inline]
+    pub fn num_cell_slots(&self) -> usize {
+        self.tri.simplices.len()
+    }
+
+    #[inline]
+    fn touch(&mut self, c: CellId) {
+        let stamp = &mut self.stamps[c.index()];
+        if *stamp != self.epoch {
+            *stamp = self.epoch;
+            if let Some(log) = &mut self.log {
+                log.push(c);
+            }
+        }
     }
 
     /// The constrained edges, each once, as vertex pairs.
@@ -138,6 +199,7 @@ impl ConstrainedTriangulation2 {
         if self.constrained.len() < n {
             self.constrained.resize(n, 0);
             self.tags.resize(n, 0);
+            self.stamps.resize(n, 0);
         }
     }
 
@@ -182,6 +244,8 @@ impl ConstrainedTriangulation2 {
         let across = self.tri.simplices[c.index()].n[f];
         self.constrained[c.index()] |= 1 << f;
         self.constrained[across.cell().index()] |= 1 << across.facet();
+        self.touch(c);
+        self.touch(across.cell());
         Ok(())
     }
 
@@ -297,6 +361,7 @@ impl ConstrainedTriangulation2 {
             self.tri.link(FacetRef::new(k, i), s.n[i]);
             self.constrained[k.index()] = bit(cons, i) << i;
             self.tags[k.index()] = tag;
+            self.touch(k);
             self.stack.push(FacetRef::new(k, i));
         }
         // Facet j of k_i (the edge through v and vertex 3 − i − j) is facet i of k_j.
@@ -351,6 +416,9 @@ impl ConstrainedTriangulation2 {
         self.tags[c2.index()] = tc;
         self.tags[e1.index()] = te;
         self.tags[e2.index()] = te;
+        for k in [c1, c2, e1, e2] {
+            self.touch(k);
+        }
         for (k, f) in [(c1, next(i)), (c2, prev(i)), (e1, next(j)), (e2, prev(j))] {
             self.stack.push(FacetRef::new(k, f));
         }
@@ -392,6 +460,8 @@ impl ConstrainedTriangulation2 {
         self.constrained[c.index()] = bit(ce, next(j)) | bit(cc, prev(i)) << 2;
         self.constrained[e.index()] = bit(ce, prev(j)) | bit(cc, next(i)) << 1;
         self.tags[e.index()] = tag;
+        self.touch(c);
+        self.touch(e);
         self.set_incident(a, c);
         self.set_incident(b, c);
         self.set_incident(d, c);
@@ -459,15 +529,23 @@ impl ConstrainedTriangulation2 {
     /// moved, e.g. by smoothing). Returns the number of flips. Terminates: each flip lowers the
     /// triangulation on the (perturbed) lifting paraboloid.
     pub fn make_delaunay(&mut self) -> usize {
-        self.stack.clear();
-        for c in self.tri.cells().collect::<Vec<_>>() {
-            for i in 0..3 {
-                let n = self.tri.simplices[c.index()].n[i].cell();
-                if c < n {
-                    self.stack.push(FacetRef::new(c, i));
-                }
-            }
-        }
+        // Only the edges failing the test start the flips: they are found in parallel, in cell
+        // order (read-only). An edge that passes can fail only after a flip changes one of its
+        // cells, and every flip queues the edges around it.
+        let this = &*self;
+        let failing: Vec<FacetRef> = (0..self.tri.simplices.len() as u32)
+            .into_par_iter()
+            .with_min_len(1 << 12)
+            .map(CellId)
+            .filter(|&c| this.tri.is_live(c) && !this.tri.is_ghost(c))
+            .flat_map_iter(|c| {
+                (0..3).filter_map(move |i| {
+                    let n = this.tri.simplices[c.index()].n[i].cell();
+                    (c < n && this.needs_flip(c, i)).then_some(FacetRef::new(c, i))
+                })
+            })
+            .collect();
+        self.stack = failing;
         self.legalize_queued()
     }
 
@@ -615,26 +693,80 @@ impl ConstrainedTriangulation2 {
     /// [`ConstraintError::InvalidMove`] naming the first vertex whose move inverts a cell, or
     /// is on the hull; coordinate errors as for insertion.
     pub fn move_vertices(&mut self, moves: &[(VertexId, [f64; 2])]) -> Result<(), ConstraintError> {
-        let mut old = Vec::with_capacity(moves.len());
+        let mut old: Vec<(VertexId, [f64; 2])> = Vec::with_capacity(moves.len());
+        let mut moved = vec![false; self.tri.num_vertices()];
         for &(v, p) in moves {
             if v.is_ghost() || v.index() >= self.tri.num_vertices() {
+                for &(u, q) in old.iter().rev() {
+                    self.tri.points[u.index()] = q;
+                }
                 return Err(ConstraintError::InvalidMove { vertex: v });
             }
             // Tiny magnitudes (averages of values near zero) are flushed to zero, which the
             // predicates handle exactly.
             let (scale, tiny) = (self.tri.scale, self.tri.min_magnitude);
             let p = p.map(|x| if (x * scale).abs() < tiny { 0.0 } else { x });
-            let q = self.tri.scaled_input(p)?;
+            let q = match self.tri.scaled_input(p) {
+                Ok(q) => q,
+                Err(e) => {
+                    for &(u, q) in old.iter().rev() {
+                        self.tri.points[u.index()] = q;
+                    }
+                    return Err(e.into());
+                }
+            };
             old.push((v, self.tri.points[v.index()]));
             self.tri.points[v.index()] = q;
+            moved[v.index()] = true;
         }
-        for &(v, _) in moves {
-            if !self.star_positive(v) {
-                for &(u, p) in old.iter().rev() {
-                    self.tri.points[u.index()] = p;
-                }
-                return Err(ConstraintError::InvalidMove { vertex: v });
+        // One scan over the cells in slot order (memory order, in parallel), rather than a walk
+        // around each moved vertex: every cell with a moved vertex must be finite and positive.
+        let touches = |s: &crate::triangulation::Simplex| {
+            s.v[0] != VertexId::DEAD && s.v[..3].iter().any(|&u| !u.is_ghost() && moved[u.index()])
+        };
+        let points = &self.tri.points;
+        let broken = self
+            .tri
+            .simplices
+            .par_iter()
+            .with_min_len(1 << 12)
+            .any(|s| {
+                touches(s)
+                    && (s.v[..3].iter().any(|u| u.is_ghost())
+                        || orient2d(
+                            points[s.v[0].index()],
+                            points[s.v[1].index()],
+                            points[s.v[2].index()],
+                        ) != Sign::Positive)
+            });
+        if broken {
+            // Name the first vertex, in `moves` order, with a broken star.
+            let first = moves
+                .iter()
+                .find(|&&(v, _)| !self.star_positive(v))
+                .map_or(moves[0].0, |&(v, _)| v);
+            for &(u, p) in old.iter().rev() {
+                self.tri.points[u.index()] = p;
             }
+            return Err(ConstraintError::InvalidMove { vertex: first });
+        }
+        if self.log.is_some() {
+            for c in (0..self.tri.simplices.len() as u32).map(CellId) {
+                if touches(&self.tri.simplices[c.index()]) {
+                    self.touch(c);
+                }
+            }
+        } else {
+            let epoch = self.epoch;
+            self.stamps
+                .par_iter_mut()
+                .zip(self.tri.simplices.par_iter())
+                .with_min_len(1 << 12)
+                .for_each(|(stamp, s)| {
+                    if touches(s) {
+                        *stamp = epoch;
+                    }
+                });
         }
         Ok(())
     }

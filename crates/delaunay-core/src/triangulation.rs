@@ -371,9 +371,7 @@ impl<D: Dim> Triangulation<D> {
     fn make_first_cell(&mut self) {
         let mut verts: [VertexId; 4] = [VertexId(0), VertexId(1), VertexId(2), VertexId(3)];
         let mut pts = [D::Point::default(); 5];
-        for k in 0..D::C {
-            pts[k] = self.points[k];
-        }
+        pts[..D::C].copy_from_slice(&self.points[..D::C]);
         if D::orient(&pts[..D::C]) == Sign::Negative {
             verts.swap(0, 1);
         }
@@ -538,7 +536,7 @@ impl<D: Dim> Triangulation<D> {
     /// cell the "sphere" is the open half-space beyond its hull facet; a point on the facet's
     /// plane (line) is decided by the finite cell across the facet, so both agree exactly.
     #[inline]
-    fn in_conflict(&self, c: CellId, p: D::Point, v: VertexId) -> bool {
+    fn in_conflict(&self, c: CellId, p: D::Point) -> bool {
         let cell = &self.simplices[c.index()];
         let Some(ghost) = cell.v[..D::C].iter().position(|u| u.is_ghost()) else {
             return D::insphere_cell(&self.points, &cell.v, p) == Sign::Positive;
@@ -549,7 +547,7 @@ impl<D: Dim> Triangulation<D> {
         match D::orient_replacing(&self.points, &finite, ghost, p) {
             Sign::Positive => true,
             Sign::Negative => false,
-            Sign::Zero => self.in_conflict(cell.n[ghost].cell(), p, v),
+            Sign::Zero => self.in_conflict(cell.n[ghost].cell(), p),
         }
     }
 
@@ -575,7 +573,7 @@ impl<D: Dim> Triangulation<D> {
                     continue;
                 }
                 if m != outside {
-                    if self.in_conflict(n, p, v) {
+                    if self.in_conflict(n, p) {
                         self.mark[n.index()] = inside;
                         cavity.cells.push(n);
                         cavity.stack.push(n);
@@ -638,7 +636,7 @@ impl<D: Dim> Triangulation<D> {
                 }
                 if m == UNSEEN && !is_blocked {
                     cavity.touched.push(n);
-                    if self.in_conflict(n, p, v) {
+                    if self.in_conflict(n, p) {
                         self.mark[n.index()] = INSIDE;
                         cavity.cells.push(n);
                         cavity.stack.push(n);
@@ -928,6 +926,12 @@ impl<D: Dim> Triangulation<D> {
             .filter(|c| self.simplices[c.index()].v[0] != VertexId::DEAD)
     }
 
+    /// Whether cell slot `c` holds a cell (finite or ghost), rather than being free.
+    #[inline]
+    pub fn is_live(&self, c: CellId) -> bool {
+        self.simplices[c.index()].v[0] != VertexId::DEAD
+    }
+
     /// The finite cells (triangles or tetrahedra), each positively oriented.
     pub fn cells(&self) -> impl Iterator<Item = CellId> + '_ {
         self.all_cells().filter(|&c| !self.is_ghost(c))
@@ -1053,7 +1057,7 @@ impl<D: Dim> Triangulation<D> {
 
     /// Whether vertex `v` (an existing vertex) is in conflict with cell `c`: used by validation.
     pub(crate) fn vertex_in_conflict(&self, c: CellId, v: VertexId) -> bool {
-        self.in_conflict(c, self.points[v.index()], v)
+        self.in_conflict(c, self.points[v.index()])
     }
 
     /// The factor from internal to caller's coordinates.

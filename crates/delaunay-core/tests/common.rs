@@ -1,5 +1,5 @@
 //! Point-set generators shared by the kernel's tests (seeded, deterministic).
-#![allow(dead_code, unreachable_pub)]
+#![allow(dead_code, unreachable_pub, missing_docs)]
 
 use rand::{rngs::StdRng, Rng, SeedableRng};
 

@@ -26,8 +26,8 @@ fn volume6(t: &Triangulation3) -> f64 {
             let v: Vec<[f64; 3]> = t.cell(c).iter().map(|&v| t.vertex(v)).collect();
             let d = |i: usize| [v[i][0] - v[0][0], v[i][1] - v[0][1], v[i][2] - v[0][2]];
             let (a, b, e) = (d(1), d(2), d(3));
-            (a[0] * (b[1] * e[2] - b[2] * e[1]) - a[1] * (b[0] * e[2] - b[2] * e[0])
-                + a[2] * (b[0] * e[1] - b[1] * e[0]))
+            a[0] * (b[1] * e[2] - b[2] * e[1]) - a[1] * (b[0] * e[2] - b[2] * e[0])
+                + a[2] * (b[0] * e[1] - b[1] * e[0])
         })
         .sum()
 }

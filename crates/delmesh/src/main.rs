@@ -101,10 +101,10 @@ struct MeshArgs {
     /// Largest spacing of --adapt.
     #[arg(long, value_name = "H")]
     max_spacing: Option<f64>,
-    /// Smoothing relaxation factor ω (paper: 0.05–0.25).
-    #[arg(long, default_value_t = 0.2)]
-    omega: f64,
-    /// Smoothing passes N (paper: 20–50; default 30 in 2D, 10 in 3D, where the Delaunay
+    /// Smoothing relaxation factor ω (paper: 0.05–0.25; default 0.25 in 2D, 0.2 in 3D).
+    #[arg(long)]
+    omega: Option<f64>,
+    /// Smoothing passes N (paper: 20–50; default 24 in 2D, 10 in 3D, where the Delaunay
     /// restoration that follows re-triangulates the points).
     #[arg(long)]
     iterations: Option<usize>,
@@ -376,11 +376,14 @@ fn mesh(args: &MeshArgs) -> Result<()> {
     options.smoothing = if args.no_smoothing {
         None
     } else {
-        Some(
-            Smoother::new()
-                .omega(args.omega)?
-                .iterations(args.iterations.unwrap_or(30)),
-        )
+        let mut smoother = Smoother::new().iterations(
+            args.iterations
+                .unwrap_or(delmesh::smoothing::DEFAULT_ITERATIONS),
+        );
+        if let Some(omega) = args.omega {
+            smoother = smoother.omega(omega)?;
+        }
+        Some(smoother)
     };
     options.delaunay_flips = !args.no_flips;
     let run = mesh2d::mesh_plc(&plc, &options)
@@ -434,11 +437,12 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
         smoothing: if args.no_smoothing {
             None
         } else {
-            Some(
-                Smoother3::new()
-                    .omega(args.omega)?
-                    .iterations(args.iterations.unwrap_or(mesh3d::SMOOTHING_PASSES)),
-            )
+            let mut smoother =
+                Smoother3::new().iterations(args.iterations.unwrap_or(mesh3d::SMOOTHING_PASSES));
+            if let Some(omega) = args.omega {
+                smoother = smoother.omega(omega)?;
+            }
+            Some(smoother)
         },
         ..MeshOptions3::default()
     };
@@ -458,8 +462,10 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
         ..PointGeneration3::default()
     });
     if let Some(path) = &args.background {
-        options.spacing =
-            Spacing3::Background(mesh3d::read_background3(path, args.field.as_deref())?);
+        options.spacing = Spacing3::Background(Box::new(mesh3d::read_background3(
+            path,
+            args.field.as_deref(),
+        )?));
     }
     if let Some(path) = &args.adapt {
         let field = args
@@ -470,7 +476,11 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
             args.min_spacing.unwrap_or_default(),
             args.max_spacing.unwrap_or_default(),
         );
-        options.spacing = Spacing3::Background(mesh3d::read_adaptation3(path, field, &adaptation)?);
+        options.spacing = Spacing3::Background(Box::new(mesh3d::read_adaptation3(
+            path,
+            field,
+            &adaptation,
+        )?));
     }
     let run = mesh3d::mesh_plc3(&plc, &options)
         .map_err(|e| anyhow::anyhow!("{}: {}", args.input.display(), e))?;

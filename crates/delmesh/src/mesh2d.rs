@@ -127,7 +127,7 @@ pub fn mesh_plc(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Error> {
                 Spacing::Background(bg) => SpacingField::background(bg.clone()),
             };
             for s in &options.sources {
-                field = field.with_source(s.clone());
+                field = field.with_source(*s);
             }
             let report = settings.run(&mut mesh, &field)?;
             lap("point generation", &mut timings);
@@ -166,7 +166,7 @@ pub fn mesh_plc(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Error> {
         None => None,
     };
     let arrays = mesh.to_arrays();
-    let quality = QualityReport::of_triangles(&arrays.coords, &arrays.triangles);
+    let quality = QualityReport::of_mesh(&arrays.coords, &arrays.triangles, &arrays.neighbours);
     lap("quality and output arrays", &mut timings);
     Ok(MeshRun2 {
         recovery: mesh.history.clone(),

@@ -41,7 +41,7 @@ pub enum Spacing3 {
     Boundary,
     /// From a background mesh whose nodes carry spacing values (R11), e.g. made from a previous
     /// solution ([`read_adaptation3`]).
-    Background(BackgroundMesh3),
+    Background(Box<BackgroundMesh3>),
 }
 
 /// Smoothing passes of the 3D pipeline. Below the paper's 20–50: the Delaunay restoration that
@@ -138,10 +138,10 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
         Some(settings) => {
             let mut field = match &options.spacing {
                 Spacing3::Boundary => SpacingField3::boundary(),
-                Spacing3::Background(bg) => SpacingField3::background(bg.clone()),
+                Spacing3::Background(bg) => SpacingField3::background((**bg).clone()),
             };
             for s in &options.sources {
-                field = field.with_source(s.clone());
+                field = field.with_source(*s);
             }
             let report = settings.run(&mut mesh, |p, from_nodes| field.spacing(p, from_nodes))?;
             lap("point generation", &mut timings);

@@ -1,18 +1,29 @@
 //! Weatherill's automatic point generation (R10): centroid candidates accepted by the α test,
 //! inserted by constrained Delaunay insertion, in passes until no candidate is accepted.
 //!
-//! Each pass looks at every element that existed when the pass began. Its candidate is the
+//! Each pass looks at the elements as they are when it begins. Each element's candidate is its
 //! centroid, with spacing `dp` from the [`SpacingField`] (interpolated from the element's nodes
-//! by default, or from a background mesh). The candidate is inserted only if it is farther than
-//! `α·dp` from every node of the element that contains it *now*: elements split earlier in the
-//! same pass are seen as they are, so two candidates of neighbouring elements do not both go in
-//! (the paper inserts each accepted point at once, with the same effect). The new node keeps
+//! by default, or from a background mesh), and passes the α test if it is farther than `α·dp`
+//! from every node of the element. The candidates that pass are then inserted one by one, in
+//! Hilbert order (consecutive insertions are neighbours, so the walks are short and the memory
+//! they touch is warm, and the new vertices and cells are numbered along the curve, which every
+//! later stage's memory traffic benefits from). A candidate whose element an earlier insertion
+//! of the same pass has already changed is dropped, so two candidates of neighbouring elements
+//! do not both go in; the changed elements are looked at in the next pass. The new node keeps
 //! its `dp`. Insertion is constrained: a candidate never crosses or removes a boundary edge, and
-//! one that rounding put on a boundary edge or outside its region is refused.
+//! one that rounding put on a boundary edge or outside its region is refused. Passes end when
+//! one inserts nothing.
+//!
+//! Only what changed is looked at again: an element unchanged since the previous pass began
+//! was looked at then, and refused or dropped for a change that made it a new element. The
+//! exception is a candidate refused for the nodes of *another* element (rounding put a thin
+//! element's centroid outside it), which is looked at again in the next pass. The candidates
+//! of a pass are evaluated in parallel; the result does not depend on the number of threads.
 
 use crate::SpacingField;
 use delmesh_boundary_recovery::{Mesh2, OUTSIDE};
-use delmesh_delaunay_core::{CellId, ConstraintError, Insertion, VertexId};
+use delmesh_delaunay_core::{CellId, ConstraintError, Dim, Insertion, VertexId, D2};
+use rayon::prelude::*;
 use std::fmt;
 
 /// Why point generation could not run.
@@ -135,44 +146,68 @@ impl PointGeneration {
         let mut dp = node_spacing(mesh, field)?;
         let mut report = GenerationReport::default();
         let mut added = 0usize;
-        let mut cells: Vec<CellId> = Vec::new();
+        let mut elements = mesh.num_elements();
+        let frame = Frame::of(mesh);
+        // Cells whose candidate was refused because of another cell's nodes: that cell may
+        // change, so they are looked at again in the next pass even if they did not.
+        let mut retry: Vec<CellId> = Vec::new();
+        // The elements to look at: all of them first, then those the previous pass changed
+        // (recorded by the triangulation as it changes them).
+        let mut cells = elements_where(mesh, |_| true);
         while report.passes.len() < self.max_passes && added < self.max_points {
-            cells.clear();
-            cells.extend(mesh.elements());
+            let previous = mesh.cdt.changed_in_epoch();
+            let epoch = mesh.cdt.next_epoch(true);
+            cells.retain(|&c| mesh.is_element(c));
+            for c in retry.drain(..) {
+                // Not already listed as changed.
+                if mesh.cdt.changed_in(c) != previous && mesh.is_element(c) {
+                    cells.push(c);
+                }
+            }
+            // Every candidate of the pass, evaluated in parallel on the mesh as it is now, then
+            // visited in Hilbert order of the candidates.
+            let dp_now: &[f64] = &dp;
+            let frame = &frame;
+            let evaluated: Vec<(u64, CellId, Candidate)> = cells
+                .par_iter()
+                .with_min_len(1 << 10)
+                .filter_map(|&c| match self.candidate(mesh, c, dp_now, field) {
+                    Candidate::Refused => None,
+                    k @ Candidate::At { g, .. } => Some((frame.key(g), c, k)),
+                    k => Some((0, c, k)),
+                })
+                .collect();
+            let mut todo = Vec::with_capacity(evaluated.len());
+            for (key, c, k) in evaluated {
+                match k {
+                    Candidate::BadSpacing { value, at } => {
+                        return Err(PointGenError::BadSpacing {
+                            value,
+                            x: at[0],
+                            y: at[1],
+                        })
+                    }
+                    Candidate::At { g, h, reach2 } => todo.push((key, c, g, h, reach2)),
+                    Candidate::Refused => {}
+                }
+            }
+            todo.par_sort_unstable_by_key(|t| (t.0, t.1));
             let mut accepted = 0;
-            for &c in &cells {
+            for &(_, c, g, h, reach2) in &todo {
                 if added >= self.max_points {
                     break;
                 }
-                let tri = mesh.cdt.triangulation();
-                let v = tri.cell(c);
-                let tag = mesh.cdt.tag(c);
-                if tag == OUTSIDE || v.iter().any(|u| u.is_ghost()) {
+                // An element an earlier insertion of this pass changed is not the one that
+                // made the candidate any more: it is looked at again in the next pass.
+                if mesh.cdt.changed_in(c) == epoch {
                     continue;
                 }
-                let p = [tri.vertex(v[0]), tri.vertex(v[1]), tri.vertex(v[2])];
-                let g = [
-                    (p[0][0] + p[1][0] + p[2][0]) / 3.0,
-                    (p[0][1] + p[1][1] + p[2][1]) / 3.0,
-                ];
-                let from_nodes = (dp[v[0].index()] + dp[v[1].index()] + dp[v[2].index()]) / 3.0;
-                let h = field.spacing(g, from_nodes);
-                if !(h > 0.0 && h.is_finite()) {
-                    return Err(PointGenError::BadSpacing {
-                        value: h,
-                        x: g[0],
-                        y: g[1],
-                    });
-                }
-                let reach = self.alpha * h;
-                let reach2 = reach * reach;
                 let dist2 =
                     |q: [f64; 2]| (q[0] - g[0]) * (q[0] - g[0]) + (q[1] - g[1]) * (q[1] - g[1]);
-                // The element's own nodes first: most candidates fail here, before any walk.
-                if p.iter().any(|&q| dist2(q) <= reach2) {
-                    continue;
-                }
+                let tag = mesh.cdt.tag(c);
+                let elsewhere = std::cell::Cell::new(false);
                 let inserted = mesh.cdt.insert_near_if(g, c, |cdt, cell, on_edge| {
+                    elsewhere.set(cell != c);
                     if cdt.tag(cell) != tag || on_edge.is_some_and(|i| cdt.is_constrained(cell, i))
                     {
                         return false;
@@ -180,17 +215,27 @@ impl PointGeneration {
                     let t = cdt.triangulation();
                     t.cell(cell).iter().all(|&u| dist2(t.vertex(u)) > reach2)
                 })?;
-                if let Some(Insertion::Inserted(nv)) = inserted {
-                    set(&mut dp, nv, h);
-                    set(&mut mesh.spacing, nv, h);
-                    accepted += 1;
-                    added += 1;
+                match inserted {
+                    Some(Insertion::Inserted(nv)) => {
+                        set(&mut dp, nv, h);
+                        set(&mut mesh.spacing, nv, h);
+                        accepted += 1;
+                        added += 1;
+                    }
+                    _ if elsewhere.get() => retry.push(c),
+                    _ => {}
                 }
             }
+            cells = mesh.cdt.take_changed();
+            // Each insertion splits one element into three, or two sharing an edge (never a
+            // boundary edge, so both in the region) into four.
+            let before = elements;
+            elements += 2 * accepted;
+            debug_assert_eq!(elements, mesh.num_elements());
             report.passes.push(GenerationPass {
-                candidates: cells.len(),
+                candidates: before,
                 accepted,
-                elements: mesh.num_elements(),
+                elements,
             });
             if accepted == 0 {
                 break;
@@ -198,6 +243,90 @@ impl PointGeneration {
         }
         Ok(report)
     }
+
+    /// The candidate of element `c`: its centroid with its spacing, unless a node of `c` is
+    /// within `α·dp` of it (most candidates fail here, before any walk).
+    fn candidate(&self, mesh: &Mesh2, c: CellId, dp: &[f64], field: &SpacingField) -> Candidate {
+        let tri = mesh.cdt.triangulation();
+        let v = tri.cell(c);
+        if mesh.cdt.tag(c) == OUTSIDE || v.iter().any(|u| u.is_ghost()) {
+            return Candidate::Refused;
+        }
+        let p = [tri.vertex(v[0]), tri.vertex(v[1]), tri.vertex(v[2])];
+        let g = [
+            (p[0][0] + p[1][0] + p[2][0]) / 3.0,
+            (p[0][1] + p[1][1] + p[2][1]) / 3.0,
+        ];
+        let from_nodes = (dp[v[0].index()] + dp[v[1].index()] + dp[v[2].index()]) / 3.0;
+        let h = field.spacing(g, from_nodes);
+        if !(h > 0.0 && h.is_finite()) {
+            return Candidate::BadSpacing { value: h, at: g };
+        }
+        let reach = self.alpha * h;
+        let reach2 = reach * reach;
+        let dist2 = |q: [f64; 2]| (q[0] - g[0]) * (q[0] - g[0]) + (q[1] - g[1]) * (q[1] - g[1]);
+        if p.iter().any(|&q| dist2(q) <= reach2) {
+            return Candidate::Refused;
+        }
+        Candidate::At { g, h, reach2 }
+    }
+}
+
+/// What an element proposes.
+#[derive(Clone, Copy, Debug)]
+enum Candidate {
+    /// Nothing (outside, or a node too close to its centroid).
+    Refused,
+    /// The spacing field gave a bad value at the centroid.
+    BadSpacing { value: f64, at: [f64; 2] },
+    /// Its centroid `g`, the spacing `h` there and the squared reach `(α·h)²`.
+    At { g: [f64; 2], h: f64, reach2: f64 },
+}
+
+/// The bounding box of the mesh's vertices, for Hilbert keys of candidates.
+struct Frame {
+    lo: [f64; 2],
+    scale: [f64; 2],
+}
+
+impl Frame {
+    fn of(mesh: &Mesh2) -> Frame {
+        let tri = mesh.cdt.triangulation();
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for i in 0..tri.num_vertices() {
+            let p = tri.vertex(VertexId(i as u32));
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let scale = [0, 1].map(|k| {
+            let w = hi[k] - lo[k];
+            if w > 0.0 {
+                65535.0 / w
+            } else {
+                0.0
+            }
+        });
+        Frame { lo, scale }
+    }
+
+    /// The Hilbert key of `p` on a 2^16 grid over the box (clamped).
+    fn key(&self, p: [f64; 2]) -> u64 {
+        let q = [0, 1].map(|k| ((p[k] - self.lo[k]) * self.scale[k]).clamp(0.0, 65535.0) as u32);
+        D2::hilbert_key(&q)
+    }
+}
+
+/// The elements of `mesh` that satisfy `keep`, in slot order (the slots are scanned in
+/// parallel).
+pub(crate) fn elements_where(mesh: &Mesh2, keep: impl Fn(CellId) -> bool + Sync) -> Vec<CellId> {
+    (0..mesh.cdt.num_cell_slots() as u32)
+        .into_par_iter()
+        .with_min_len(1 << 12)
+        .map(CellId)
+        .filter(|&c| mesh.is_element(c) && keep(c))
+        .collect()
 }
 
 fn set(values: &mut Vec<f64>, v: VertexId, x: f64) {

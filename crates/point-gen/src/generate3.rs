@@ -114,8 +114,7 @@ impl PointGeneration3 {
         }
         let mut dp = node_spacing3(mesh, &spacing)?;
         let largest = (0..mesh.ct.triangulation().num_vertices())
-            .map(|v| mesh.ct.triangulation().vertex(VertexId(v as u32)))
-            .flatten()
+            .flat_map(|v| mesh.ct.triangulation().vertex(VertexId(v as u32)))
             .fold(0.0f64, |m, c| m.max(c.abs()));
         let tiny = largest * 2f64.powi(-100);
         let mut report = GenerationReport3::default();

@@ -9,11 +9,16 @@
 //! 30°. Circumcentres outside the element's region or on a boundary edge are refused (the
 //! boundary is never crossed), so elements at sharp boundary corners stay as they are; a cap
 //! on the points added keeps any run bounded.
+//!
+//! After the first pass only the elements changed since the previous pass began are looked at
+//! again: an unchanged element is still skinny and its circumcentre still refused (regions,
+//! the hull and the vertices it could coincide with do not change), so the passes insert
+//! exactly what a full scan would, in the same order.
 
 use delmesh_boundary_recovery::{Mesh2, OUTSIDE};
-use delmesh_delaunay_core::{CellId, Insertion};
+use delmesh_delaunay_core::Insertion;
 
-use crate::generate::PointGenError;
+use crate::generate::{elements_where, PointGenError};
 
 /// Settings of quality refinement.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,14 +51,20 @@ impl QualityRefinement {
         let bound = self.min_angle.to_radians().sin();
         let cap = (mesh.cdt.triangulation().num_vertices() as f64 * self.max_growth) as usize;
         let mut added = 0;
-        let mut bad: Vec<CellId> = Vec::new();
-        for _ in 0..self.max_passes {
-            bad.clear();
+        let skinny = |mesh: &Mesh2, c| {
             let tri = mesh.cdt.triangulation();
-            bad.extend(mesh.elements().filter(|&c| {
-                let v = tri.cell(c);
-                min_sine([tri.vertex(v[0]), tri.vertex(v[1]), tri.vertex(v[2])]) < bound
-            }));
+            let v = tri.cell(c);
+            min_sine([tri.vertex(v[0]), tri.vertex(v[1]), tri.vertex(v[2])]) < bound
+        };
+        // All elements first, then those the previous pass changed, in slot order.
+        let mut bad = elements_where(mesh, |c| skinny(mesh, c));
+        for pass in 0..self.max_passes {
+            if pass > 0 {
+                bad = mesh.cdt.take_changed();
+                bad.sort_unstable();
+                bad.retain(|&c| mesh.is_element(c) && skinny(mesh, c));
+            }
+            mesh.cdt.next_epoch(true);
             let mut inserted = 0;
             for &c in &bad {
                 if added >= cap {

@@ -79,7 +79,10 @@ impl QualityRefinement3 {
                 }
                 let p = [0, 1, 2, 3].map(|k| tri.vertex(v[k]));
                 let (centre, ratio) = circumcentre_ratio(&p);
-                if !(ratio > self.max_radius_edge) || centre.iter().any(|x| !x.is_finite()) {
+                if ratio.is_nan()
+                    || ratio <= self.max_radius_edge
+                    || centre.iter().any(|x| !x.is_finite())
+                {
                     continue;
                 }
                 let spacing = 0.25 * v.iter().map(|u| mesh.spacing[u.index()]).sum::<f64>();

@@ -249,10 +249,11 @@ mod tests {
             if round % 3 == 1 {
                 // e on the line / plane through the others, then nudged.
                 let t = rnd();
-                for k in 0..3 {
-                    p[4][k] = p[0][k] + t * (p[1][k] - p[0][k]);
-                    p[3][k] = p[0][k] + t * (p[1][k] - p[0][k]) + (1.0 - t) * (p[2][k] - p[0][k]);
-                }
+                let (p0, p1, p2) = (p[0], p[1], p[2]);
+                p[4] = std::array::from_fn(|k| p0[k] + t * (p1[k] - p0[k]));
+                p[3] = std::array::from_fn(|k| {
+                    p0[k] + t * (p1[k] - p0[k]) + (1.0 - t) * (p2[k] - p0[k])
+                });
                 p[2][0] = p[0][0] + 0.5 * (p[1][0] - p[0][0]);
                 p[2][1] = p[0][1] + 0.5 * (p[1][1] - p[0][1]);
             }

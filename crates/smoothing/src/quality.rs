@@ -1,7 +1,7 @@
 //! [`QualityReport`]: the figures a CFD engineer checks before running a solver on a mesh.
 
 use crate::laplace::angle;
-use rayon::slice::ParallelSliceMut;
+use rayon::prelude::*;
 use std::fmt;
 
 /// Quality statistics of a triangle mesh.
@@ -29,9 +29,114 @@ pub struct QualityReport {
     pub mean_neighbour_area_ratio: f64,
 }
 
+/// Triangles per parallel task. Sums are combined task by task in order, so the report is the
+/// same whatever the number of threads (and, below this size, the same as one sequential loop).
+const CHUNK: usize = 1 << 14;
+
+/// The per-triangle figures of one chunk.
+struct Part {
+    lo: f64,
+    /// The largest angle's cosine, squared and signed (decreasing in the angle), and the
+    /// triangle and vertex where it is.
+    widest: (f64, usize, usize),
+    sum_min: f64,
+    histogram: [usize; 6],
+    amin: f64,
+    amax: f64,
+    total_area: f64,
+}
+
+impl Part {
+    /// Each triangle's smallest angle is opposite its shortest edge and its largest opposite its
+    /// longest: one `atan2` per triangle, and one for the chunk's largest angle.
+    fn of(points: &[[f64; 2]], triangles: &[[u32; 3]], first: usize, areas: &mut [f64]) -> Part {
+        let mut r = Part {
+            lo: f64::INFINITY,
+            widest: (f64::INFINITY, usize::MAX, 0),
+            sum_min: 0.0,
+            histogram: [0; 6],
+            amin: f64::INFINITY,
+            amax: 0.0,
+            total_area: 0.0,
+        };
+        for (k, (t, slot)) in triangles.iter().zip(areas).enumerate() {
+            let p = t.map(|v| points.get(v as usize).copied().unwrap_or([f64::NAN; 2]));
+            let d = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2);
+            // Squared length of the edge opposite each vertex.
+            let e = [d(p[1], p[2]), d(p[2], p[0]), d(p[0], p[1])];
+            let shortest = if e[1] < e[0] && e[1] <= e[2] {
+                1
+            } else if e[2] < e[0] && e[2] < e[1] {
+                2
+            } else {
+                0
+            };
+            let longest = if e[1] > e[0] && e[1] >= e[2] {
+                1
+            } else if e[2] > e[0] && e[2] > e[1] {
+                2
+            } else {
+                0
+            };
+            let tmin = corner(p, shortest).to_degrees();
+            r.lo = r.lo.min(tmin);
+            r.sum_min += tmin;
+            let bin = ((tmin / 10.0) as usize).min(5);
+            r.histogram[bin] += 1;
+            let (o, u, w) = (p[longest], p[(longest + 1) % 3], p[(longest + 2) % 3]);
+            let dot = (u[0] - o[0]) * (w[0] - o[0]) + (u[1] - o[1]) * (w[1] - o[1]);
+            let cos2 = dot * dot.abs() / (d(u, o) * d(w, o));
+            if cos2 < r.widest.0 {
+                r.widest = (cos2, first + k, longest);
+            }
+            let area = 0.5
+                * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+                    - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]));
+            r.amin = r.amin.min(area);
+            r.amax = r.amax.max(area);
+            r.total_area += area;
+            *slot = area;
+        }
+        r
+    }
+}
+
+/// The angle of triangle `p` at its vertex `k` (radians).
+fn corner(p: [[f64; 2]; 3], k: usize) -> f64 {
+    angle(p[k], p[(k + 1) % 3], p[(k + 2) % 3])
+}
+
 impl QualityReport {
-    /// Measures the triangles (counter-clockwise, indexing `points`).
+    /// Measures the triangles (counter-clockwise, indexing `points`). Triangles sharing an
+    /// edge are found from the vertices; [`Self::of_mesh`] is faster when they are known.
     pub fn of_triangles(points: &[[f64; 2]], triangles: &[[u32; 3]]) -> QualityReport {
+        Self::measure(points, triangles, None)
+    }
+
+    /// As [`Self::of_triangles`], with `neighbours[t][e]` the triangle across edge
+    /// `(triangles[t][e], triangles[t][(e + 1) % 3])`, or `u32::MAX` on the border. The shared
+    /// edges are then visited by triangle (same figures, summed in another order).
+    ///
+    /// # Panics
+    /// If `neighbours` is not as long as `triangles`.
+    pub fn of_mesh(
+        points: &[[f64; 2]],
+        triangles: &[[u32; 3]],
+        neighbours: &[[u32; 3]],
+    ) -> QualityReport {
+        assert_eq!(
+            neighbours.len(),
+            triangles.len(),
+            "one neighbour row per triangle"
+        );
+        Self::measure(points, triangles, Some(neighbours))
+    }
+
+    fn measure(
+        points: &[[f64; 2]],
+        triangles: &[[u32; 3]],
+        neighbours: Option<&[[u32; 3]]>,
+    ) -> QualityReport {
         let mut r = QualityReport {
             elements: triangles.len(),
             ..Default::default()
@@ -39,56 +144,46 @@ impl QualityReport {
         if triangles.is_empty() {
             return r;
         }
-        let (mut lo, mut hi, mut sum_min) = (f64::INFINITY, 0.0f64, 0.0);
+        let mut areas = vec![0.0f64; triangles.len()];
+        let parts: Vec<Part> = triangles
+            .par_chunks(CHUNK)
+            .zip(areas.par_chunks_mut(CHUNK))
+            .enumerate()
+            .map(|(c, (t, a))| Part::of(points, t, c * CHUNK, a))
+            .collect();
+        let (mut lo, mut sum_min) = (f64::INFINITY, 0.0);
+        let mut widest = (f64::INFINITY, usize::MAX, 0);
         let (mut amin, mut amax) = (f64::INFINITY, 0.0f64);
-        let mut areas = Vec::with_capacity(triangles.len());
-        for t in triangles {
-            let p = t.map(|v| points.get(v as usize).copied().unwrap_or([f64::NAN; 2]));
-            let angles: Vec<f64> = (0..3)
-                .map(|k| angle(p[k], p[(k + 1) % 3], p[(k + 2) % 3]).to_degrees())
-                .collect();
-            let tmin = angles.iter().copied().fold(f64::INFINITY, f64::min);
-            let tmax = angles.iter().copied().fold(0.0, f64::max);
-            lo = lo.min(tmin);
-            hi = hi.max(tmax);
-            sum_min += tmin;
-            let bin = ((tmin / 10.0) as usize).min(5);
-            r.min_angle_histogram[bin] += 1;
-            let area = 0.5
-                * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
-                    - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]));
-            amin = amin.min(area);
-            amax = amax.max(area);
-            r.total_area += area;
-            areas.push(area);
+        for p in &parts {
+            lo = lo.min(p.lo);
+            if p.widest.0 < widest.0 {
+                widest = p.widest;
+            }
+            sum_min += p.sum_min;
+            for (h, c) in r.min_angle_histogram.iter_mut().zip(p.histogram) {
+                *h += c;
+            }
+            amin = amin.min(p.amin);
+            amax = amax.max(p.amax);
+            r.total_area += p.total_area;
         }
+        let hi = match widest {
+            (_, usize::MAX, _) => 0.0,
+            (_, t, k) => {
+                let p =
+                    triangles[t].map(|v| points.get(v as usize).copied().unwrap_or([f64::NAN; 2]));
+                corner(p, k).to_degrees()
+            }
+        };
         r.min_angle = lo;
         r.max_angle = hi;
         r.mean_min_angle = sum_min / triangles.len() as f64;
         r.min_area = amin;
         r.max_area = amax;
-        // Shared edges: sort the (edge, triangle) pairs so the two sides of an edge meet.
-        let mut sides: Vec<(u64, u32)> = triangles
-            .iter()
-            .enumerate()
-            .flat_map(|(k, t)| {
-                (0..3).map(move |e| {
-                    let (a, b) = (t[e], t[(e + 1) % 3]);
-                    ((u64::from(a.min(b)) << 32) | u64::from(a.max(b)), k as u32)
-                })
-            })
-            .collect();
-        sides.par_sort_unstable();
-        let (mut worst, mut sum, mut count) = (1.0f64, 0.0, 0usize);
-        for w in sides.windows(2) {
-            if w[0].0 == w[1].0 {
-                let (x, y) = (areas[w[0].1 as usize].abs(), areas[w[1].1 as usize].abs());
-                let ratio = x.max(y) / x.min(y);
-                worst = worst.max(ratio);
-                sum += ratio;
-                count += 1;
-            }
-        }
+        let (worst, sum, count) = match neighbours {
+            Some(across) => ratios_across(across, &areas),
+            None => neighbour_ratios(points.len(), triangles, &areas),
+        };
         r.max_neighbour_area_ratio = worst;
         r.mean_neighbour_area_ratio = if count > 0 { sum / count as f64 } else { 1.0 };
         r
@@ -152,4 +247,99 @@ impl fmt::Display for QualityReport {
             self.mean_neighbour_area_ratio
         )
     }
+}
+
+/// The largest area ratio of two triangles sharing an edge, the sum of the ratios and their
+/// number, over the shared edges in increasing order of (smaller vertex, larger vertex).
+///
+/// The sides of each edge are grouped under its smaller vertex (a counting sort), each group
+/// sorted by the larger vertex and the triangle: consecutive sides of one edge are a pair.
+fn neighbour_ratios(n: usize, triangles: &[[u32; 3]], areas: &[f64]) -> (f64, f64, usize) {
+    // Vertices beyond the points (the report tolerates them) get rows too.
+    let n = triangles
+        .iter()
+        .flatten()
+        .map(|&v| v as usize + 1)
+        .max()
+        .unwrap_or(0)
+        .max(n);
+    let mut start = vec![0u32; n + 1];
+    for t in triangles {
+        for e in 0..3 {
+            start[t[e].min(t[(e + 1) % 3]) as usize + 1] += 1;
+        }
+    }
+    for i in 0..n {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut sides = vec![(0u32, 0u32); start[n] as usize];
+    for (k, t) in triangles.iter().enumerate() {
+        for e in 0..3 {
+            let (a, b) = (t[e], t[(e + 1) % 3]);
+            let row = a.min(b) as usize;
+            sides[fill[row] as usize] = (a.max(b), k as u32);
+            fill[row] += 1;
+        }
+    }
+    drop(fill);
+    let rows_per_task = (CHUNK / 2).max(1);
+    let parts: Vec<(f64, f64, usize)> = (0..n.div_ceil(rows_per_task))
+        .into_par_iter()
+        .map(|task| {
+            let rows = task * rows_per_task..((task + 1) * rows_per_task).min(n);
+            let (mut worst, mut sum, mut count) = (1.0f64, 0.0, 0usize);
+            let mut row: Vec<(u32, u32)> = Vec::new();
+            for i in rows {
+                row.clear();
+                row.extend_from_slice(&sides[start[i] as usize..start[i + 1] as usize]);
+                row.sort_unstable();
+                for w in row.windows(2) {
+                    if w[0].0 == w[1].0 {
+                        let (x, y) = (areas[w[0].1 as usize].abs(), areas[w[1].1 as usize].abs());
+                        let ratio = x.max(y) / x.min(y);
+                        worst = worst.max(ratio);
+                        sum += ratio;
+                        count += 1;
+                    }
+                }
+            }
+            (worst, sum, count)
+        })
+        .collect();
+    parts
+        .into_iter()
+        .fold((1.0f64, 0.0, 0usize), |(w, s, c), p| {
+            (w.max(p.0), s + p.1, c + p.2)
+        })
+}
+
+/// As [`neighbour_ratios`], from the triangles across each edge: each shared edge is visited
+/// from its triangle with the smaller index, in parallel chunks summed in order.
+fn ratios_across(across: &[[u32; 3]], areas: &[f64]) -> (f64, f64, usize) {
+    let parts: Vec<(f64, f64, usize)> = across
+        .par_chunks(CHUNK)
+        .enumerate()
+        .map(|(c, rows)| {
+            let (mut worst, mut sum, mut count) = (1.0f64, 0.0, 0usize);
+            for (i, row) in rows.iter().enumerate() {
+                let t = c * CHUNK + i;
+                for &n in row {
+                    if n != u32::MAX && (n as usize) > t && (n as usize) < areas.len() {
+                        let (x, y) = (areas[t].abs(), areas[n as usize].abs());
+                        let ratio = x.max(y) / x.min(y);
+                        worst = worst.max(ratio);
+                        sum += ratio;
+                        count += 1;
+                    }
+                }
+            }
+            (worst, sum, count)
+        })
+        .collect();
+    parts
+        .into_iter()
+        .fold((1.0f64, 0.0, 0usize), |(w, s, c), p| {
+            (w.max(p.0), s + p.1, c + p.2)
+        })
 }

@@ -377,6 +377,12 @@ impl fmt::Display for QualityReport3 {
     }
 }
 
+/// The smallest and largest dihedral angles of the tetrahedron `p`, in degrees (as the report
+/// measures them: accurate near 0° and 180°; a degenerate face gives 0° and 180°).
+pub fn dihedral_range(p: &[[f64; 3]; 4]) -> (f64, f64) {
+    crate::tet::dihedral_extremes(p)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -392,10 +398,4 @@ mod tests {
         assert_eq!(bin(f64::NAN), 0);
         assert!((REGULAR_DIHEDRAL - (1.0f64 / 3.0).acos().to_degrees()).abs() < 1e-12);
     }
-}
-
-/// The smallest and largest dihedral angles of the tetrahedron `p`, in degrees (as the report
-/// measures them: accurate near 0° and 180°; a degenerate face gives 0° and 180°).
-pub fn dihedral_range(p: &[[f64; 3]; 4]) -> (f64, f64) {
-    crate::tet::dihedral_extremes(p)
 }

@@ -96,6 +96,48 @@ fn a_point_that_plain_laplace_would_push_out_stays_inside() {
 }
 
 #[test]
+fn an_unflagged_point_on_the_border_stays_fixed() {
+    // No point is flagged, but the border points' triangles do not close around them: they are
+    // boundary and must not move (the domain keeps its shape and area).
+    let (mut pts, tris, fixed) = jittered_grid(12, 0.2, 3);
+    let original = pts.clone();
+    let none = vec![false; pts.len()];
+    let stats = Smoother::new().smooth(&mut pts, &tris, &none).unwrap();
+    assert!(stats.moved > 0);
+    for (i, &border) in fixed.iter().enumerate() {
+        if border {
+            assert_eq!(pts[i], original[i], "border point {i} moved");
+        }
+    }
+    assert!(all_positive(&pts, &tris));
+    assert!((QualityReport::of_triangles(&pts, &tris).total_area - 144.0).abs() < 1e-9);
+}
+
+#[test]
+fn the_same_result_whatever_the_number_of_threads() {
+    // Large enough that each colour is split into parallel chunks.
+    let (pts, tris, fixed) = jittered_grid(90, 0.25, 11);
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut p = pts.clone();
+        let stats = pool.install(|| Smoother::new().smooth(&mut p, &tris, &fixed).unwrap());
+        (p, stats)
+    };
+    let (one, stats_one) = run(1);
+    for threads in [2, 3] {
+        let (many, stats_many) = run(threads);
+        assert_eq!(stats_one, stats_many);
+        assert!(one
+            .iter()
+            .zip(&many)
+            .all(|(a, b)| a[0].to_bits() == b[0].to_bits() && a[1].to_bits() == b[1].to_bits()));
+    }
+}
+
+#[test]
 fn bad_input_is_an_error() {
     assert_eq!(Smoother::new().omega(0.0), Err(SmoothError::BadOmega(0.0)));
     assert!(Smoother::new().omega(f64::NAN).is_err());
@@ -121,8 +163,127 @@ fn quality_report_snapshot() {
     assert_eq!(QualityReport::of_triangles(&pts, &[]).elements, 0);
 }
 
+#[test]
+fn quality_report_matches_a_direct_computation_whatever_the_threads() {
+    // More triangles than one parallel task takes.
+    let (pts, tris, _) = jittered_grid(130, 0.25, 5);
+    let angles = |t: &[u32; 3]| -> [f64; 3] {
+        let p = t.map(|v| pts[v as usize]);
+        std::array::from_fn(|k| {
+            let (o, u, w) = (p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
+            let (ux, uy, wx, wy) = (u[0] - o[0], u[1] - o[1], w[0] - o[0], w[1] - o[1]);
+            (ux * wy - uy * wx)
+                .abs()
+                .atan2(ux * wx + uy * wy)
+                .to_degrees()
+        })
+    };
+    let area = |t: &[u32; 3]| {
+        let p = t.map(|v| pts[v as usize]);
+        0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+            - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]))
+    };
+    let mins: Vec<f64> = tris
+        .iter()
+        .map(|t| angles(t).into_iter().fold(180.0, f64::min))
+        .collect();
+    let max = tris.iter().flat_map(angles).fold(0.0, f64::max);
+    let mut sides: std::collections::BTreeMap<(u32, u32), Vec<usize>> = Default::default();
+    for (k, t) in tris.iter().enumerate() {
+        for e in 0..3 {
+            let (a, b) = (t[e], t[(e + 1) % 3]);
+            sides.entry((a.min(b), a.max(b))).or_default().push(k);
+        }
+    }
+    let ratios: Vec<f64> = sides
+        .values()
+        .filter(|s| s.len() == 2)
+        .map(|s| {
+            let (x, y) = (area(&tris[s[0]]).abs(), area(&tris[s[1]]).abs());
+            x.max(y) / x.min(y)
+        })
+        .collect();
+    let reports: Vec<QualityReport> = [1, 3]
+        .iter()
+        .map(|&n| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap();
+            pool.install(|| QualityReport::of_triangles(&pts, &tris))
+        })
+        .collect();
+    assert_eq!(reports[0], reports[1]);
+    let q = &reports[0];
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1.0);
+    assert!(close(
+        q.min_angle,
+        mins.iter().copied().fold(180.0, f64::min)
+    ));
+    assert!(close(q.max_angle, max));
+    assert!(close(
+        q.mean_min_angle,
+        mins.iter().sum::<f64>() / mins.len() as f64
+    ));
+    assert_eq!(q.min_angle_histogram.iter().sum::<usize>(), tris.len());
+    assert!(close(
+        q.max_neighbour_area_ratio,
+        ratios.iter().copied().fold(1.0, f64::max)
+    ));
+    assert!(close(
+        q.mean_neighbour_area_ratio,
+        ratios.iter().sum::<f64>() / ratios.len() as f64
+    ));
+    assert!(close(q.total_area, 130.0 * 130.0));
+    // With the neighbours given: the same figures.
+    let across: Vec<[u32; 3]> = tris
+        .iter()
+        .enumerate()
+        .map(|(k, t)| {
+            std::array::from_fn(|e| {
+                let (a, b) = (t[e], t[(e + 1) % 3]);
+                let side = &sides[&(a.min(b), a.max(b))];
+                side.iter()
+                    .find(|&&o| o != k)
+                    .map_or(u32::MAX, |&o| o as u32)
+            })
+        })
+        .collect();
+    let m = QualityReport::of_mesh(&pts, &tris, &across);
+    assert_eq!(
+        (m.min_angle, m.max_angle, m.mean_min_angle),
+        (q.min_angle, q.max_angle, q.mean_min_angle)
+    );
+    assert_eq!(m.max_neighbour_area_ratio, q.max_neighbour_area_ratio);
+    assert!(close(
+        m.mean_neighbour_area_ratio,
+        q.mean_neighbour_area_ratio
+    ));
+}
+
+/// The smallest angle (degrees) of the triangles with at least one free point.
+fn free_min_angle(pts: &[[f64; 2]], tris: &[[u32; 3]], fixed: &[bool]) -> f64 {
+    tris.iter()
+        .filter(|t| t.iter().any(|&v| !fixed[v as usize]))
+        .map(|t| QualityReport::of_triangles(pts, &[*t]).min_angle)
+        .fold(180.0, f64::min)
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(40))]
+    #[test]
+    fn smoothing_never_sharpens_below_thirty_degrees(seed in 0u64..10_000, k in 2usize..10, jitter in 0.0f64..0.25, omega in 0.05f64..1.0) {
+        // Each move keeps its star's smallest angle at least as large as before, or at least
+        // 30°: so the smallest angle of the triangles that can change never falls below
+        // min(its start value, 30°).
+        let (mut pts, tris, fixed) = jittered_grid(k, jitter, seed);
+        prop_assume!(all_positive(&pts, &tris));
+        let before = free_min_angle(&pts, &tris, &fixed);
+        Smoother::new().omega(omega).unwrap().iterations(20).smooth(&mut pts, &tris, &fixed).unwrap();
+        let after = free_min_angle(&pts, &tris, &fixed);
+        prop_assert!(after >= before.min(30.0) - 1e-9, "{before} -> {after}");
+    }
+
     #[test]
     fn smoothing_never_inverts(seed in 0u64..10_000, k in 2usize..12, jitter in 0.0f64..0.25, omega in 0.01f64..1.0) {
         let (mut pts, tris, fixed) = jittered_grid(k, jitter, seed);
