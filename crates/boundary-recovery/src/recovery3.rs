@@ -43,8 +43,8 @@ use crate::error::RecoveryError;
 use crate::plc3::Plc3;
 use crate::surface::{check_surface, CheckedSurface, PointLocation};
 use delmesh_delaunay_core::{
-    find_face_in, CellId, ConstrainedTriangulation2, ConstrainedTriangulation3, Insertion,
-    StarSearch, Triangulation2, Triangulation3, VertexId,
+    find_face_in, CellId, ConstrainedTriangulation2, ConstrainedTriangulation3, FacetRef,
+    Insertion, StarSearch, Triangulation2, Triangulation3, VertexId,
 };
 use delmesh_predicates::{orient2d, orient3d, Sign};
 use std::collections::HashMap;
@@ -322,6 +322,9 @@ struct Fac {
     subfaces: Vec<[VertexId; 3]>,
     /// Whether `subfaces` must be recomputed (points were added on the facet).
     stale: bool,
+    /// The value of `State::changes` when every sub-face was last found present (0: not
+    /// since its sub-faces last changed).
+    complete_at: u64,
 }
 
 /// Recovery in progress.
@@ -340,6 +343,15 @@ struct State<'a> {
     shortest: f64,
     budget: usize,
     added: usize,
+    /// Insertions so far, plus one: the clock of `touched`.
+    changes: u64,
+    /// For each vertex, the value of `changes` when an insertion last changed its star (a
+    /// cell containing it was replaced). An edge or face of the triangulation can only be
+    /// destroyed by an insertion whose cavity holds all its vertices, and one that is missing
+    /// can only appear with a new vertex, so checks look again only where this is recent.
+    touched: Vec<u64>,
+    /// The value of `changes` at the last edge check.
+    edges_checked_at: u64,
 }
 
 impl BoundaryRecovery3 {
@@ -506,18 +518,20 @@ impl BoundaryRecovery3 {
         history.final_surface_edges = state.segs.iter().map(|s| s.pts.len() - 1).sum();
 
         // Protect the recovered faces, then classify.
-        let mut ct = ConstrainedTriangulation3::new(state.tri);
         let mut faces = Vec::new();
         for fac in &state.facs {
             for &t in &fac.subfaces {
-                let protected = ct.protect_face(t[0], t[1], t[2]);
-                debug_assert!(protected, "a recovered face is present: a bug in delmesh");
                 faces.push(BoundaryFace {
                     v: t,
                     marker: fac.marker,
                     facet: fac.facet,
                 });
             }
+        }
+        let facets = state.face_refs(&faces);
+        let mut ct = ConstrainedTriangulation3::new(state.tri);
+        for f in facets.into_iter().flatten() {
+            ct.protect(f);
         }
         history.final_surface_faces = faces.len();
         let region_attributes = classify3(&mut ct, plc)?;
@@ -678,6 +692,7 @@ impl<'a> State<'a> {
                 facet: t.facet,
                 subfaces: vec![cv],
                 stale: false,
+                complete_at: 0,
             });
         }
         let mut seg_facets = vec![Vec::new(); segs.len()];
@@ -725,6 +740,9 @@ impl<'a> State<'a> {
             shortest: dist(lo, hi) * 2f64.powi(-40),
             budget: max_steiner.unwrap_or((20 * n_surface).max(10_000)),
             added: 0,
+            changes: 1,
+            touched: vec![1; nv],
+            edges_checked_at: 0,
         })
     }
 
@@ -734,6 +752,34 @@ impl<'a> State<'a> {
 
     fn first(&self) -> u64 {
         u64::from(self.plc.first_index)
+    }
+
+    /// The facet of the triangulation that is each recovered face, one star search per
+    /// distinct lowest vertex.
+    fn face_refs(&mut self, faces: &[BoundaryFace]) -> Vec<Option<FacetRef>> {
+        let mut order: Vec<(VertexId, u32)> = faces
+            .iter()
+            .enumerate()
+            .map(|(i, f)| (*f.v.iter().min().unwrap_or(&f.v[0]), i as u32))
+            .collect();
+        order.sort_unstable();
+        let mut out = vec![None; faces.len()];
+        let mut star = std::mem::take(&mut self.star);
+        let mut current = VertexId::GHOST;
+        for (a, i) in order {
+            if a != current {
+                current = a;
+                self.stars.star(&self.tri, a, &mut star);
+            }
+            let [x, y, z] = faces[i as usize].v;
+            out[i as usize] = find_face_in(&self.tri, &star, x, y, z);
+            debug_assert!(
+                out[i as usize].is_some(),
+                "a recovered face is present: a bug"
+            );
+        }
+        self.star = star;
+        out
     }
 
     /// Inserts a surface point with a spacing value; `None` if it rounds onto a vertex.
@@ -747,6 +793,22 @@ impl<'a> State<'a> {
                 self.spacing[v.index()] = spacing;
                 self.on_surface[v.index()] = true;
                 self.added += 1;
+                // The new cells are the star of `v`; their vertices are the cavity's.
+                self.changes += 1;
+                let mut star = std::mem::take(&mut self.star);
+                self.stars.star(&self.tri, v, &mut star);
+                let n = self.tri.num_vertices();
+                if self.touched.len() < n {
+                    self.touched.resize(n, 0);
+                }
+                for &c in &star {
+                    for &u in self.tri.cell(c) {
+                        if !u.is_ghost() {
+                            self.touched[u.index()] = self.changes;
+                        }
+                    }
+                }
+                self.star = star;
                 Ok(Some(v))
             }
             Insertion::Duplicate(_) => Ok(None),
@@ -795,11 +857,19 @@ impl<'a> State<'a> {
     }
 
     /// `(segment, position)` of every missing sub-segment, sorted.
+    ///
+    /// Only sub-segments with an end touched since the last check are looked at: the others
+    /// were present then (every missing one was split since) and still are.
     fn missing_subsegments(&mut self) -> Vec<(u32, u32)> {
+        let since = self.edges_checked_at;
+        self.edges_checked_at = self.changes;
         let mut by_vertex: Vec<(VertexId, VertexId, u32, u32)> = Vec::new();
         for (s, seg) in self.segs.iter().enumerate() {
             for (k, w) in seg.pts.windows(2).enumerate() {
                 let (a, b) = (w[0].1, w[1].1);
+                if self.touched[a.index()] <= since && self.touched[b.index()] <= since {
+                    continue;
+                }
                 let (lo, hi) = if a < b { (a, b) } else { (b, a) };
                 by_vertex.push((lo, hi, s as u32, k as u32));
             }
@@ -949,11 +1019,23 @@ impl<'a> State<'a> {
                 let subfaces = self.reference_subfaces(f);
                 self.facs[f].subfaces = subfaces;
                 self.facs[f].stale = false;
+                self.facs[f].complete_at = 0;
             }
         }
         let mut missing = Vec::new();
         let mut star = std::mem::take(&mut self.star);
         for f in 0..self.facs.len() {
+            let fac = &self.facs[f];
+            let since = fac.complete_at;
+            if since > 0
+                && fac
+                    .subfaces
+                    .iter()
+                    .flatten()
+                    .all(|v| self.touched[v.index()] <= since)
+            {
+                continue; // complete at its last check, and nothing near it changed
+            }
             let mut subfaces = std::mem::take(&mut self.facs[f].subfaces);
             let mut absent: Vec<usize> = Vec::new();
             for (k, t) in subfaces.iter().enumerate() {
@@ -969,6 +1051,7 @@ impl<'a> State<'a> {
                 missing.push((f as u32, subfaces[k]));
             }
             self.facs[f].subfaces = subfaces;
+            self.facs[f].complete_at = if absent.is_empty() { self.changes } else { 0 };
         }
         self.star = star;
         missing
@@ -1007,24 +1090,25 @@ impl<'a> State<'a> {
                 let (Some((t0, x)), Some((t1, y))) = (apex(facets[0]), apex(facets[1])) else {
                     continue;
                 };
-                self.stars.star(&self.tri, u, &mut star);
-                let is_tet = star.iter().any(|&c| {
-                    let v = self.tri.cell(c);
-                    [w, x, y].iter().all(|z| v.contains(z))
-                });
-                if !is_tet {
-                    continue;
-                }
-                let pts = [u, w, x, y].map(|z| self.tri.vertex(z));
                 // Only where the surface itself is flat across the edge: the two sub-faces'
-                // normals (both oriented with their facets) within the angle.
+                // normals (both oriented with their facets) within the angle. This cheap test
+                // comes first; the star search only where it passes.
                 let normal = |t: [VertexId; 3]| {
                     let q = t.map(|v| self.tri.vertex(v));
                     cross(sub(q[1], q[0]), sub(q[2], q[0]))
                 };
                 let (n0, n1) = (normal(t0), normal(t1));
                 let cos = dot(n0, n1) / (dot(n0, n0) * dot(n1, n1)).sqrt();
+                let pts = [u, w, x, y].map(|z| self.tri.vertex(z));
                 if cos < FLAT_SURFACE.to_radians().cos() || min_dihedral(pts) >= FLAT_DIHEDRAL {
+                    continue;
+                }
+                self.stars.star(&self.tri, u, &mut star);
+                let is_tet = star.iter().any(|&c| {
+                    let v = self.tri.cell(c);
+                    [w, x, y].iter().all(|z| v.contains(z))
+                });
+                if !is_tet {
                     continue;
                 }
                 let on_domain_side = |t: [VertexId; 3], z: VertexId, s: f64| {
@@ -1093,6 +1177,7 @@ impl<'a> State<'a> {
                         if inside {
                             subfaces[i] = [u, y, x];
                             subfaces[j] = [y, w, x];
+                            self.facs[f].complete_at = 0;
                             moved += 1;
                             changed = true;
                             break 'pairs;

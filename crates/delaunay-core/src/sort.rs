@@ -94,6 +94,9 @@ impl SplitMix {
     }
 }
 
+/// Inputs with fewer points than this are ordered on the calling thread.
+pub(crate) const PARALLEL_MIN: usize = 8192;
+
 /// The BRIO insertion order of `points` (indices into it). Deterministic for a given input.
 ///
 /// Each point draws its round from a hash of its index: it lands in the last round with
@@ -118,23 +121,27 @@ pub(crate) fn brio_order<D: Dim>(points: &[D::Point]) -> Vec<u32> {
     while n >> (3 * (rounds + 1)) >= FIRST_ROUND {
         rounds += 1;
     }
-    let mut keyed: Vec<(u64, u32)> = points
-        .par_iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let p = p.as_ref();
-            let mut q = [0u32; 3];
-            for k in 0..D::N {
-                q[k] = ((p[k] - lo[k]) * scale) as u32;
-            }
-            let hilbert = D::hilbert_key(&q[..D::N]);
-            // Level ≥ k with probability 8^-k; the rarest levels are inserted first.
-            let level =
-                (SplitMix(i as u64 ^ 0x5EED_DE1A).next_u64().leading_zeros() / 3).min(rounds);
-            (u64::from(rounds - level) << 58 | hilbert, i as u32)
-        })
-        .collect();
-    keyed.par_sort_unstable();
+    let key = |(i, p): (usize, &D::Point)| {
+        let p = p.as_ref();
+        let mut q = [0u32; 3];
+        for k in 0..D::N {
+            q[k] = ((p[k] - lo[k]) * scale) as u32;
+        }
+        let hilbert = D::hilbert_key(&q[..D::N]);
+        // Level ≥ k with probability 8^-k; the rarest levels are inserted first.
+        let level = (SplitMix(i as u64 ^ 0x5EED_DE1A).next_u64().leading_zeros() / 3).min(rounds);
+        (u64::from(rounds - level) << 58 | hilbert, i as u32)
+    };
+    // Small inputs (a facet's points in boundary recovery) are not worth waking other threads.
+    let keyed = if n < PARALLEL_MIN {
+        let mut keyed: Vec<(u64, u32)> = points.iter().enumerate().map(key).collect();
+        keyed.sort_unstable();
+        keyed
+    } else {
+        let mut keyed: Vec<(u64, u32)> = points.par_iter().enumerate().map(key).collect();
+        keyed.par_sort_unstable();
+        keyed
+    };
     keyed.into_iter().map(|(_, i)| i).collect()
 }
 

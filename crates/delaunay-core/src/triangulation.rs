@@ -25,7 +25,7 @@
 use crate::dim::Dim;
 use crate::error::TriangulationError;
 use crate::ids::{CellId, FacetRef, VertexId};
-use crate::sort::{brio_order, SplitMix};
+use crate::sort::{brio_order, SplitMix, PARALLEL_MIN};
 use delmesh_predicates::{Sign, COORDINATE_RANGE};
 use rayon::prelude::*;
 use std::marker::PhantomData;
@@ -238,10 +238,12 @@ impl<D: Dim> Triangulation<D> {
         // Gathered once, in parallel, in insertion order. Vertices are numbered in the same
         // order, so each inserted point is moved down in place to its vertex slot (duplicates
         // leave the gap that this closes) and no second copy of the points is needed.
-        let mut ordered: Vec<D::Point> = order
-            .par_iter()
-            .map(|&i| tri_scale::<D>(points[i as usize], scale))
-            .collect();
+        let gather = |&i: &u32| tri_scale::<D>(points[i as usize], scale);
+        let mut ordered: Vec<D::Point> = if order.len() < PARALLEL_MIN {
+            order.iter().map(gather).collect()
+        } else {
+            order.par_iter().map(gather).collect()
+        };
 
         // The first simplex: the first D + 1 affinely independent points in insertion order.
         let mut first: Vec<usize> = Vec::with_capacity(D::C); // positions in `order`

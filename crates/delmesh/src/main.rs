@@ -104,7 +104,7 @@ struct MeshArgs {
     /// Smoothing relaxation factor ω (paper: 0.05–0.25; default 0.25 in 2D, 0.2 in 3D).
     #[arg(long)]
     omega: Option<f64>,
-    /// Smoothing passes N (paper: 20–50; default 24 in 2D, 10 in 3D, where the Delaunay
+    /// Smoothing passes N (paper: 20–50; default 24 in 2D, 4 in 3D, where the Delaunay
     /// restoration that follows re-triangulates the points).
     #[arg(long)]
     iterations: Option<usize>,

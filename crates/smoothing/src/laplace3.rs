@@ -52,7 +52,7 @@
 //! close in memory.
 
 use crate::adjacency::{colour_classes, spatial_order3, Rows};
-use crate::tet::{cross, dihedrals_within, dot, min_dihedral_cos, sub, worst_cos, P3};
+use crate::tet::{cross, dihedrals_within, dot, min_dihedral_cos, sub, worst_cos_at_most, P3};
 use crate::{SmoothError, SmoothStats, MAX_HALVINGS, REGULAR_DIHEDRAL};
 use delmesh_predicates::{orient3d, Sign, COORDINATE_RANGE};
 use rayon::prelude::*;
@@ -413,7 +413,11 @@ impl Smoother3 {
                 if floor_cos2.is_some_and(|c2| dihedrals_within(&g, c2)) {
                     return true;
                 }
-                // Below the floor: allowed only if the star is already worse than this.
+                // Below the floor: allowed only if the star is already worse than this. The
+                // star is at least as bad as this tetrahedron now, so no worse than that is fine.
+                if worst_cos_at_most(&g, min_dihedral_cos(&[x, a, b, c])) {
+                    return true;
+                }
                 let limit = *now.get_or_insert_with(|| {
                     faces
                         .iter()
@@ -423,7 +427,7 @@ impl Smoother3 {
                         })
                         .fold(-1.0f64, f64::max)
                 });
-                worst_cos(&g) <= limit
+                worst_cos_at_most(&g, limit)
             };
             // The tetrahedron that refused the last trial is likely to refuse a halved one too:
             // ask it first (the answer does not depend on the order).

@@ -110,6 +110,38 @@ pub(crate) fn dihedrals_within(g: &[P3; 4], c2: f64) -> bool {
     }
 }
 
+/// Whether every dihedral angle of the tetrahedron with face normals `g` has a cosine of at
+/// most `c` (any `c`): `worst_cos(g) <= c`, without square roots.
+#[inline]
+pub(crate) fn worst_cos_at_most(g: &[P3; 4], c: f64) -> bool {
+    if c >= 1.0 {
+        return true;
+    }
+    let len2 = g.map(|x| dot(x, x));
+    if len2.iter().all(|&l| l > 1e-140 && l < 1e140) {
+        cos_at_most(g, &len2, c)
+    } else {
+        let g = scaled(g);
+        let len2 = g.map(|x| dot(x, x));
+        len2.iter().all(|&l| l > 0.0) && cos_at_most(&g, &len2, c)
+    }
+}
+
+/// `−g_k·g_l ≤ c·|g_k|·|g_l|` for the six pairs, compared squared with the signs kept.
+#[inline(always)]
+fn cos_at_most(g: &[P3; 4], len2: &[f64; 4], c: f64) -> bool {
+    let c2 = c * c;
+    FACE_PAIRS.iter().all(|&(k, l)| {
+        let d = -dot(g[k], g[l]);
+        let r = c2 * len2[k] * len2[l];
+        if c >= 0.0 {
+            d <= 0.0 || d * d <= r
+        } else {
+            d < 0.0 && d * d >= r
+        }
+    })
+}
+
 #[inline(always)]
 fn within(g: &[P3; 4], len2: &[f64; 4], c2: f64) -> bool {
     FACE_PAIRS.iter().all(|&(k, l)| {
@@ -202,6 +234,37 @@ mod tests {
         for k in 0..4 {
             let on_face = p[(k + 1) % 4];
             assert!(dot(g[k], sub(p[k], on_face)) > 0.0, "face {k}");
+        }
+    }
+
+    #[test]
+    fn cosine_bound_agrees_with_the_worst_cosine() {
+        // A deterministic spread of shapes: regular-ish, flat, needle-like, tiny and huge.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for i in 0..20_000 {
+            let scale = [1e-30, 1e-3, 1.0, 1e3, 1e30][i % 5];
+            let mut p = [[0.0; 3]; 4];
+            for q in &mut p {
+                *q = [
+                    next() * scale,
+                    next() * scale,
+                    next() * scale * [1.0, 1e-6][i % 2],
+                ];
+            }
+            let g = face_normals(&p);
+            let w = worst_cos(&g);
+            for c in [-0.9, -0.3, 0.0, 0.2, 0.5, 0.94, 0.999, 1.0] {
+                // Away from the boundary itself the two must agree.
+                if (w - c).abs() > 1e-9 {
+                    assert_eq!(worst_cos_at_most(&g, c), w <= c, "{p:?} c {c} worst {w}");
+                }
+            }
         }
     }
 

@@ -23,6 +23,7 @@
 
 use super::bvh::{overlap, Aabb, Boxes};
 use delmesh_predicates::Sign;
+use rayon::prelude::*;
 
 /// `orient3d`, answering zero without arithmetic when the four points share a coordinate
 /// exactly (they lie in an axis-aligned plane: flat faces of boxes, symmetry planes), which is
@@ -307,24 +308,33 @@ pub(crate) fn triangle_box(pts: &[P], t: [u32; 3]) -> Aabb {
 /// All intersecting triangle pairs `(i, j)`, `i < j`, sorted: the exact test on every pair
 /// whose boxes overlap.
 pub(crate) fn intersecting_pairs(pts: &[P], tris: &[[u32; 3]], boxes: &Boxes) -> Vec<(u32, u32)> {
-    let mut out = Vec::new();
-    let (mut stack, mut near) = (Vec::new(), Vec::new());
-    // One traversal per leaf: its box covers its (at most four) triangles' boxes.
-    for (leaf_box, items) in boxes.bvh().leaves() {
-        near.clear();
-        boxes.overlapping(leaf_box, &mut stack, |j| near.push(j));
-        for &i in items {
-            let bi = &boxes.boxes[i as usize];
-            for &j in &near {
-                if j > i
-                    && overlap(bi, &boxes.boxes[j as usize])
-                    && pair_intersects(pts, tris[i as usize], tris[j as usize])
-                {
-                    out.push((i, j));
+    // One traversal per leaf: its box covers its (at most four) triangles' boxes. Leaves are
+    // independent, so they are searched in parallel; the sort makes the order thread-free.
+    let leaves: Vec<(&Aabb, &[u32])> = boxes.bvh().leaves().collect();
+    let mut out: Vec<(u32, u32)> = leaves
+        .par_iter()
+        .map_init(
+            || (Vec::new(), Vec::new()),
+            |(stack, near), &(leaf_box, items)| {
+                near.clear();
+                boxes.overlapping(leaf_box, stack, |j| near.push(j));
+                let mut found = Vec::new();
+                for &i in items {
+                    let bi = &boxes.boxes[i as usize];
+                    for &j in near.iter() {
+                        if j > i
+                            && overlap(bi, &boxes.boxes[j as usize])
+                            && pair_intersects(pts, tris[i as usize], tris[j as usize])
+                        {
+                            found.push((i, j));
+                        }
+                    }
                 }
-            }
-        }
-    }
+                found
+            },
+        )
+        .flatten()
+        .collect();
     out.sort_unstable();
     out
 }
@@ -337,17 +347,24 @@ pub(crate) fn points_on_triangles(
     tris: &[[u32; 3]],
     boxes: &Boxes,
 ) -> Vec<(u32, u32)> {
-    let mut out = Vec::new();
-    let mut stack = Vec::new();
-    for v in points {
-        let x = pts[v as usize];
-        boxes.overlapping(&(x, x), &mut stack, |t| {
-            let tri = tris[t as usize];
-            if !tri.contains(&v) && point_on_triangle(tri.map(|u| pts[u as usize]), x) {
-                out.push((v, t));
+    let points: Vec<u32> = points.collect();
+    let mut out: Vec<(u32, u32)> = points
+        .par_chunks(1024)
+        .map_init(Vec::new, |stack, chunk| {
+            let mut found = Vec::new();
+            for &v in chunk {
+                let x = pts[v as usize];
+                boxes.overlapping(&(x, x), stack, |t| {
+                    let tri = tris[t as usize];
+                    if !tri.contains(&v) && point_on_triangle(tri.map(|u| pts[u as usize]), x) {
+                        found.push((v, t));
+                    }
+                });
             }
-        });
-    }
+            found
+        })
+        .flatten()
+        .collect();
     out.sort_unstable();
     out
 }
