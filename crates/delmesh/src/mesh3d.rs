@@ -159,20 +159,37 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
     let recovery_history = mesh.history.clone();
     let mut arrays = mesh.to_arrays();
     lap("output arrays", &mut timings);
-    let (mut smoothing, mut quality_before_smoothing) = (None, None);
-    if let (Some(smoother), true) = (&options.smoothing, generation.is_some()) {
-        quality_before_smoothing =
-            Some(QualityReport3::of_tetrahedra(&arrays.coords, &arrays.tets));
-        lap("quality", &mut timings);
-        smoothing = Some(smoother.smooth(&mut arrays.coords, &arrays.tets, &arrays.on_boundary)?);
+    let smoother = options.smoothing.filter(|_| generation.is_some());
+    let restore = options.delaunay && generation.is_some();
+    // The quality before smoothing is measured from a copy, during the Delaunay restoration
+    // (whose triangulation is sequential, so the second thread is free for it).
+    let before = smoother.map(|_| arrays.coords.clone());
+    let mut smoothing = None;
+    if let Some(s) = &smoother {
+        smoothing = Some(s.smooth(&mut arrays.coords, &arrays.tets, &arrays.on_boundary)?);
         lap("smoothing", &mut timings);
     }
+    let measure_before = || {
+        before
+            .as_ref()
+            .map(|coords| QualityReport3::of_tetrahedra(coords, &arrays.tets))
+    };
+    let (quality_before_smoothing, restored) = if restore {
+        let (q, m) = rayon::join(measure_before, || {
+            restore_delaunay(&arrays, plc, options.max_steiner_points)
+        });
+        (q, Some(m?))
+    } else {
+        (measure_before(), None)
+    };
     let mut restoration = None;
-    if options.delaunay && generation.is_some() {
-        mesh = restore_delaunay(&arrays, plc, options.max_steiner_points)?;
+    if let Some(m) = restored {
+        mesh = m;
         restoration = Some(mesh.history.clone());
         arrays = mesh.to_arrays();
         lap("delaunay restoration", &mut timings);
+    } else if quality_before_smoothing.is_some() {
+        lap("quality", &mut timings);
     }
     let quality = QualityReport3::of_tetrahedra(&arrays.coords, &arrays.tets);
     lap("quality", &mut timings);
