@@ -374,9 +374,9 @@ fn star_accepts(points: &[[f64; 2]], ring: &[u32], x: [f64; 2], y: [f64; 2]) -> 
     // next triangle.
     let (mut ay, mut ax) = ([a[0] - y[0], a[1] - y[1]], [a[0] - x[0], a[1] - x[1]]);
     let mut a2 = ay[0] * ay[0] + ay[1] * ay[1];
-    // sin² of the smallest angle among the star's triangles sharper than the guard after the
-    // move (1: none).
-    let mut sharpest = 1.0f64;
+    // Whether a triangle of the star is sharper than the guard after the move (rare: then the
+    // star's sharpness before and after decide, out of this loop and its divisions).
+    let mut sharp = false;
     for &ib in ring {
         let b = points[ib as usize];
         let by = [b[0] - y[0], b[1] - y[1]];
@@ -397,14 +397,26 @@ fn star_accepts(points: &[[f64; 2]], ring: &[u32], x: [f64; 2], y: [f64; 2]) -> 
         let b2 = by[0] * by[0] + by[1] * by[1];
         let ab = [by[0] - ay[0], by[1] - ay[1]];
         let ab2 = ab[0] * ab[0] + ab[1] * ab[1];
-        let longer = (a2 * b2).max(a2 * ab2).max(b2 * ab2);
-        if twice_y * twice_y < SIN2_GUARD * longer {
-            sharpest = sharpest.min(twice_y * twice_y / longer);
-        }
+        let longer = larger(larger(a2 * b2, a2 * ab2), b2 * ab2);
+        sharp |= twice_y * twice_y < SIN2_GUARD * longer;
         (a, ay, ax, a2) = (b, by, bx, b2);
     }
     // A star sharper than the guard after the move must not be sharper than before.
-    sharpest >= SIN2_GUARD || sharpest >= star_sharpness(points, ring, x)
+    if !sharp {
+        return true;
+    }
+    let after = star_sharpness(points, ring, y);
+    after >= SIN2_GUARD || after >= star_sharpness(points, ring, x)
+}
+
+/// The larger of two numbers that are not NaN (a plain comparison, cheaper than `f64::max`).
+#[inline(always)]
+fn larger(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
 }
 
 /// sin² of the smallest angle of the star `ring` around `x`.
@@ -420,7 +432,7 @@ fn star_sharpness(points: &[[f64; 2]], ring: &[u32], x: [f64; 2]) -> f64 {
         let twice = a[0] * b[1] - a[1] * b[0];
         let (a2, b2) = (a[0] * a[0] + a[1] * a[1], b[0] * b[0] + b[1] * b[1]);
         let ab2 = (b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2);
-        let longer = (a2 * b2).max(a2 * ab2).max(b2 * ab2);
+        let longer = larger(larger(a2 * b2, a2 * ab2), b2 * ab2);
         sharpest = sharpest.min(twice * twice / longer);
         a = b;
     }
