@@ -25,6 +25,7 @@ use delmesh_boundary_recovery::{Mesh2, OUTSIDE};
 use delmesh_delaunay_core::{CellId, ConstraintError, Dim, Insertion, VertexId, D2};
 use rayon::prelude::*;
 use std::fmt;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Why point generation could not run.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -168,32 +169,43 @@ impl PointGeneration {
             // visited in Hilbert order of the candidates.
             let dp_now: &[f64] = &dp;
             let frame = &frame;
-            let evaluated: Vec<(u64, CellId, Candidate)> = cells
+            // Each accepted candidate with its Hilbert key (16 bits per axis, so 32 bits) above
+            // its cell: sorting these keys is sorting by key, then cell.
+            let bad = AtomicBool::new(false);
+            let mut todo: Vec<(u64, [f64; 2], f64, f64)> = cells
                 .par_iter()
                 .with_min_len(1 << 10)
                 .filter_map(|&c| match self.candidate(mesh, c, dp_now, field) {
+                    Candidate::At { g, h, reach2 } => {
+                        let key = frame.key(g);
+                        debug_assert!(key < 1 << 32);
+                        Some(((key << 32) | u64::from(c.0), g, h, reach2))
+                    }
+                    Candidate::BadSpacing { .. } => {
+                        bad.store(true, Ordering::Relaxed);
+                        None
+                    }
                     Candidate::Refused => None,
-                    k @ Candidate::At { g, .. } => Some((frame.key(g), c, k)),
-                    k => Some((0, c, k)),
                 })
                 .collect();
-            let mut todo = Vec::with_capacity(evaluated.len());
-            for (key, c, k) in evaluated {
-                match k {
-                    Candidate::BadSpacing { value, at } => {
+            if bad.into_inner() {
+                // The first bad spacing in the order of the cells.
+                for &c in &cells {
+                    if let Candidate::BadSpacing { value, at } =
+                        self.candidate(mesh, c, dp_now, field)
+                    {
                         return Err(PointGenError::BadSpacing {
                             value,
                             x: at[0],
                             y: at[1],
-                        })
+                        });
                     }
-                    Candidate::At { g, h, reach2 } => todo.push((key, c, g, h, reach2)),
-                    Candidate::Refused => {}
                 }
             }
-            todo.par_sort_unstable_by_key(|t| (t.0, t.1));
+            todo.par_sort_unstable_by_key(|t| t.0);
             let mut accepted = 0;
-            for &(_, c, g, h, reach2) in &todo {
+            for &(key, g, h, reach2) in &todo {
+                let c = CellId(key as u32);
                 if added >= self.max_points {
                     break;
                 }
