@@ -220,18 +220,19 @@ impl Smoother {
         {
             return Err(SmoothError::BadInput(format!("point {i} is not finite")));
         }
-        for (k, t) in triangles.iter().enumerate() {
-            if t.iter().any(|&v| v as usize >= n) {
-                return Err(SmoothError::BadInput(format!(
-                    "triangle {k} names a point out of range"
-                )));
+        // The first triangle out of range or not counter-clockwise (checked in parallel).
+        let out_of_range = |t: &[u32; 3]| t.iter().any(|&v| v as usize >= n);
+        if let Some(k) = triangles.par_iter().position_first(|t| {
+            out_of_range(t) || {
+                let p = t.map(|v| points[v as usize]);
+                orient2d(p[0], p[1], p[2]) != Sign::Positive
             }
-            let p = t.map(|v| points[v as usize]);
-            if orient2d(p[0], p[1], p[2]) != Sign::Positive {
-                return Err(SmoothError::BadInput(format!(
-                    "triangle {k} is not counter-clockwise"
-                )));
-            }
+        }) {
+            return Err(SmoothError::BadInput(if out_of_range(&triangles[k]) {
+                format!("triangle {k} names a point out of range")
+            } else {
+                format!("triangle {k} is not counter-clockwise")
+            }));
         }
         let layout = Layout::build(points, triangles, fixed);
         let mut local: Vec<[f64; 2]> = layout
@@ -452,10 +453,14 @@ impl Layout {
         }
         // The corners of each point (Z numbering): the edge opposite it in each of its
         // triangles, as (first, second) counter-clockwise.
+        let ranked: Vec<[u32; 3]> = triangles
+            .par_iter()
+            .map(|t| t.map(|v| rank[v as usize]))
+            .collect();
         let mut first = vec![0u32; n + 1];
-        for t in triangles {
-            for &v in t {
-                first[rank[v as usize] as usize + 1] += 1;
+        for r in &ranked {
+            for &v in r {
+                first[v as usize + 1] += 1;
             }
         }
         for i in 0..n {
@@ -463,15 +468,14 @@ impl Layout {
         }
         let mut fill = first.clone();
         let mut corners = vec![[0u32; 2]; first[n] as usize];
-        for t in triangles {
-            let r = t.map(|v| rank[v as usize]);
+        for r in &ranked {
             for k in 0..3 {
                 let v = r[k] as usize;
                 corners[fill[v] as usize] = [r[(k + 1) % 3], r[(k + 2) % 3]];
                 fill[v] += 1;
             }
         }
-        drop(fill);
+        drop((fill, ranked));
         // Rings of the free points whose corners chain into one closed cycle (Z numbering);
         // the others stay fixed.
         // (In parallel chunks of points, concatenated in order.)
