@@ -782,9 +782,15 @@ impl<'a> State<'a> {
         out
     }
 
-    /// Inserts a surface point with a spacing value; `None` if it rounds onto a vertex.
-    fn add_vertex(&mut self, p: [f64; 3], spacing: f64) -> Result<Option<VertexId>, RecoveryError> {
-        match self.tri.insert(p)? {
+    /// Inserts a surface point with a spacing value, walking from vertex `near`; `None` if it
+    /// rounds onto a vertex.
+    fn add_vertex(
+        &mut self,
+        p: [f64; 3],
+        spacing: f64,
+        near: VertexId,
+    ) -> Result<Option<VertexId>, RecoveryError> {
+        match self.tri.insert_near(p, near)? {
             Insertion::Inserted(v) => {
                 if self.spacing.len() <= v.index() {
                     self.spacing.resize(v.index() + 1, f64::NAN);
@@ -923,7 +929,7 @@ impl<'a> State<'a> {
             self.spacing[seg.pts[0].1.index()],
             self.spacing[seg.pts[last].1.index()],
         );
-        let Some(v) = self.add_vertex(p, da + t * (db - da))? else {
+        let Some(v) = self.add_vertex(p, da + t * (db - da), seg.pts[k].1)? else {
             return Err(self.not_recovered(self.facets_of_segment(s)));
         };
         self.segs[s].pts.insert(k + 1, (t, v));
@@ -1039,6 +1045,10 @@ impl<'a> State<'a> {
             let mut subfaces = std::mem::take(&mut self.facs[f].subfaces);
             let mut absent: Vec<usize> = Vec::new();
             for (k, t) in subfaces.iter().enumerate() {
+                // Present at the last check, and no insertion since has reached it.
+                if since > 0 && t.iter().all(|v| self.touched[v.index()] <= since) {
+                    continue;
+                }
                 self.stars.star(&self.tri, t[0], &mut star);
                 if find_face_in(&self.tri, &star, t[0], t[1], t[2]).is_none() {
                     absent.push(k);
@@ -1364,7 +1374,7 @@ impl<'a> State<'a> {
             .corners
             .map(|i| self.spacing[self.tri.vertex_of_input(i as usize).index()]);
         let spacing = b[0] * s[0] + b[1] * s[1] + b[2] * s[2];
-        let Some(v) = self.add_vertex(p, spacing)? else {
+        let Some(v) = self.add_vertex(p, spacing, t[0])? else {
             return Err(self.not_recovered(vec![f]));
         };
         let fac = &mut self.facs[f as usize];

@@ -444,6 +444,23 @@ impl<D: Dim> Triangulation<D> {
         Ok(result)
     }
 
+    /// As [`Triangulation::insert`], with the point location walk started at a cell of vertex
+    /// `near` instead of where the last insertion ended: much shorter when the caller knows a
+    /// vertex close to the point (boundary recovery splitting an edge next to its end).
+    ///
+    /// # Errors
+    /// As [`Triangulation::insert`].
+    pub fn insert_near(
+        &mut self,
+        point: D::Point,
+        near: VertexId,
+    ) -> Result<Insertion, TriangulationError> {
+        if !near.is_ghost() && near.index() < self.incident.len() {
+            self.last = self.incident[near.index()];
+        }
+        self.insert(point)
+    }
+
     /// Checks a new point (caller's coordinates) for the next input index and returns it in
     /// internal coordinates.
     pub(crate) fn scaled_input(&self, point: D::Point) -> Result<D::Point, TriangulationError> {
