@@ -377,8 +377,10 @@ impl Smoother3 {
         let mut step = s.map(|c| self.omega * c / m);
         let faces = star.faces.row(v);
         let face_points = |f: &[u32; 3]| f.map(|i| points[i as usize]);
-        // The cosine of the star's smallest dihedral angle now: only needed when a trial
-        // tetrahedron falls below the floor, so computed then, once.
+        // The cosine of the smallest dihedral angle of each tetrahedron of the star now, and of
+        // the star: only needed when a trial tetrahedron falls below the floor, so computed
+        // then, once each.
+        let mut current: Vec<f64> = Vec::new();
         let mut now: Option<f64> = None;
         let mut first = 0;
         for halving in 0..=MAX_HALVINGS {
@@ -390,8 +392,8 @@ impl Smoother3 {
                 step = step.map(|c| 0.5 * c);
                 continue;
             }
-            let mut accepts = |f: &[u32; 3]| {
-                let [a, b, c] = face_points(f);
+            let mut accepts = |i: usize| {
+                let [a, b, c] = face_points(&faces[i]);
                 // Six times the volume with apex q is (a − q) · n, n = (b − a) × (c − a).
                 let n = cross(sub(b, a), sub(c, a));
                 if dot(sub(a, y), n) < VOLUME_KEEP * dot(sub(a, x), n)
@@ -415,26 +417,29 @@ impl Smoother3 {
                 }
                 // Below the floor: allowed only if the star is already worse than this. The
                 // star is at least as bad as this tetrahedron now, so no worse than that is fine.
-                if worst_cos_at_most(&g, min_dihedral_cos(&[x, a, b, c])) {
+                if current.is_empty() {
+                    current.resize(faces.len(), f64::NAN);
+                }
+                let mut cos_now = |j: usize| {
+                    if current[j].is_nan() {
+                        let [a, b, c] = face_points(&faces[j]);
+                        current[j] = min_dihedral_cos(&[x, a, b, c]);
+                    }
+                    current[j]
+                };
+                if worst_cos_at_most(&g, cos_now(i)) {
                     return true;
                 }
-                let limit = *now.get_or_insert_with(|| {
-                    faces
-                        .iter()
-                        .map(|f| {
-                            let [a, b, c] = face_points(f);
-                            min_dihedral_cos(&[x, a, b, c])
-                        })
-                        .fold(-1.0f64, f64::max)
-                });
+                let limit =
+                    *now.get_or_insert_with(|| (0..faces.len()).map(cos_now).fold(-1.0, f64::max));
                 worst_cos_at_most(&g, limit)
             };
             // The tetrahedron that refused the last trial is likely to refuse a halved one too:
             // ask it first (the answer does not depend on the order).
-            let ok = accepts(&faces[first])
-                && faces.iter().enumerate().all(|(i, f)| {
+            let ok = accepts(first)
+                && (0..faces.len()).all(|i| {
                     i == first || {
-                        let yes = accepts(f);
+                        let yes = accepts(i);
                         if !yes {
                             first = i;
                         }

@@ -82,6 +82,16 @@ pub(crate) fn min_dihedral_cos(p: &[P3; 4]) -> f64 {
 /// [`face_normals`] gives them): 1 if a face is degenerate.
 #[inline]
 pub(crate) fn worst_cos(g: &[P3; 4]) -> f64 {
+    let len2 = g.map(|x| dot(x, x));
+    // Squared lengths of ordinary scales: no rescaling needed.
+    if len2.iter().all(|&l| l > 1e-140 && l < 1e140) {
+        let inv = len2.map(|l| 1.0 / l.sqrt());
+        let mut worst = -1.0f64;
+        for (k, l) in FACE_PAIRS {
+            worst = worst.max(-dot(g[k], g[l]) * (inv[k] * inv[l]));
+        }
+        return worst;
+    }
     let g = scaled(g);
     let len = g.map(|x| dot(x, x).sqrt());
     if len.iter().any(|&l| l.is_nan() || l <= 0.0) {
