@@ -57,8 +57,9 @@ const TINY_PRODUCTS: f64 = 1e-290;
 /// Points per parallel task within a seam colour; smaller colours run on the calling thread.
 const CHUNK: usize = 1024;
 
-/// Free points per tile: a tile's points and halo fit in a core's L2 cache.
-const TILE: usize = 4096;
+/// Free points per tile: a tile's points, halo and rings (under 1 MB) fit in a core's L2 cache,
+/// and bigger tiles leave fewer seam points (slower: their neighbours are not in one buffer).
+const TILE: usize = 16384;
 
 /// Points per parallel task when ordering the neighbours.
 const RING_CHUNK: usize = 1 << 14;
