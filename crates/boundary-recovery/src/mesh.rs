@@ -79,6 +79,17 @@ impl Mesh2 {
 
     /// The mesh as flat arrays (see [`MeshArrays`]).
     pub fn to_arrays(&self) -> MeshArrays {
+        self.arrays(true)
+    }
+
+    /// What smoothing needs of [`Mesh2::to_arrays`], cheaper: `coords`, `triangles`,
+    /// `on_boundary` and `vertex` as there; the other fields are empty.
+    pub fn smoothing_arrays(&self) -> MeshArrays {
+        self.arrays(false)
+    }
+
+    /// The flat arrays; all of them if `full`, else those of [`Mesh2::smoothing_arrays`].
+    fn arrays(&self, full: bool) -> MeshArrays {
         let tri = self.cdt.triangulation();
         let nv = tri.num_vertices();
         let cells = self.element_list();
@@ -98,13 +109,13 @@ impl Mesh2 {
         for (k, &v) in order.iter().enumerate() {
             number[v.index()] = k as u32;
         }
-        let mut triangle_of = vec![u32::MAX; self.cdt.num_cell_slots()];
-        for (k, &c) in cells.iter().enumerate() {
-            triangle_of[c.index()] = k as u32;
-        }
         let mut out = MeshArrays {
             coords: order.par_iter().map(|&v| tri.vertex(v)).collect(),
-            point_markers: vec![0; order.len()],
+            point_markers: if full {
+                vec![0; order.len()]
+            } else {
+                Vec::new()
+            },
             on_boundary: vec![false; order.len()],
             triangles: cells
                 .par_iter()
@@ -117,25 +128,39 @@ impl Mesh2 {
                     ]
                 })
                 .collect(),
-            regions: cells
-                .par_iter()
-                .map(|&c| {
-                    let tag = self.cdt.tag(c) as usize;
-                    self.region_attributes.get(tag).copied().unwrap_or(0.0)
-                })
-                .collect(),
-            // Edge (v[e], v[e + 1]) is the facet opposite local vertex e + 2.
-            neighbours: cells
-                .par_iter()
-                .map(|&c| {
-                    std::array::from_fn(|e| {
-                        triangle_of[tri.neighbor_facet(c, (e + 2) % 3).cell().index()]
-                    })
-                })
-                .collect(),
-            vertex: order.clone(),
             ..Default::default()
         };
+        if !full {
+            for e in &self.edges {
+                let (a, b) = (number[e.a.index()], number[e.b.index()]);
+                if a != u32::MAX && b != u32::MAX {
+                    out.on_boundary[a as usize] = true;
+                    out.on_boundary[b as usize] = true;
+                }
+            }
+            out.vertex = order;
+            return out;
+        }
+        let mut triangle_of = vec![u32::MAX; self.cdt.num_cell_slots()];
+        for (k, &c) in cells.iter().enumerate() {
+            triangle_of[c.index()] = k as u32;
+        }
+        out.regions = cells
+            .par_iter()
+            .map(|&c| {
+                let tag = self.cdt.tag(c) as usize;
+                self.region_attributes.get(tag).copied().unwrap_or(0.0)
+            })
+            .collect();
+        // Edge (v[e], v[e + 1]) is the facet opposite local vertex e + 2.
+        out.neighbours = cells
+            .par_iter()
+            .map(|&c| {
+                std::array::from_fn(|e| {
+                    triangle_of[tri.neighbor_facet(c, (e + 2) % 3).cell().index()]
+                })
+            })
+            .collect();
         for e in &self.edges {
             let (a, b) = (number[e.a.index()], number[e.b.index()]);
             if a == u32::MAX || b == u32::MAX {
@@ -158,6 +183,7 @@ impl Mesh2 {
                 }
             }
         }
+        out.vertex = order;
         out
     }
 }

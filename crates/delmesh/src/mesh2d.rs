@@ -142,15 +142,18 @@ pub fn mesh_plc(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Error> {
     let mut flips = 0;
     let smoothing = match &options.smoothing {
         Some(smoother) => {
-            let arrays = mesh.to_arrays();
-            let mut coords = arrays.coords.clone();
+            // Only what smoothing reads; the coordinates are compared with the triangulation's
+            // (which they were read from) to find the moves.
+            let arrays = mesh.smoothing_arrays();
+            let mut coords = arrays.coords;
             let stats = smoother.smooth(&mut coords, &arrays.triangles, &arrays.on_boundary)?;
+            let tri = mesh.cdt.triangulation();
             let moves: Vec<_> = arrays
                 .vertex
                 .iter()
-                .zip(coords.iter().zip(&arrays.coords))
-                .filter(|(_, (new, old))| new != old)
-                .map(|(&v, (&new, _))| (v, new))
+                .zip(&coords)
+                .filter(|&(&v, new)| *new != tri.vertex(v))
+                .map(|(&v, &new)| (v, new))
                 .collect();
             // The smoother keeps every element positive, so the triangulation accepts the moves.
             mesh.cdt
