@@ -32,6 +32,42 @@ pub(crate) fn classify(
         |c, i| tri.neighbor_facet(c, i).cell(),
         |c| tri.is_ghost(c),
     );
+    let component_at = |cdt: &mut ConstrainedTriangulation2, p: [f64; 2]| match cdt.locate(p) {
+        Location::Cell(c) => Some(component[c.index()] as usize),
+        Location::Vertex(_) => None,
+    };
+    let regions: Vec<_> = plc
+        .regions
+        .iter()
+        .map(|r| (component_at(cdt, r.point), r.attribute))
+        .collect();
+    let holes: Vec<_> = plc.holes.iter().map(|&h| component_at(cdt, h)).collect();
+    let tri = cdt.triangulation();
+    let (tags, attributes) = domain_tags(&cells, &component, &depth, &regions, &holes, |c| {
+        tri.is_ghost(c)
+    })?;
+    for (&c, tag) in cells.iter().zip(tags) {
+        cdt.set_tag(c, tag);
+    }
+    Ok(attributes)
+}
+
+/// The tag of each of `cells` (in order) from the flood fill's components and depths: odd
+/// depth is the default region 0, a region seed's component (`Some` component, attribute)
+/// gets region `1 + k` unless it is outside the hull, a hole seed's component and every ghost
+/// cell are [`OUTSIDE`]. Returns the tags and the attribute of each region index. Shared by
+/// the 2D and 3D flood fills.
+///
+/// # Errors
+/// [`RecoveryError::EmptyDomain`] if no cell is inside.
+pub(crate) fn domain_tags(
+    cells: &[CellId],
+    component: &[u32],
+    depth: &[u32],
+    regions: &[(Option<usize>, f64)],
+    holes: &[Option<usize>],
+    is_ghost: impl Fn(CellId) -> bool,
+) -> Result<(Vec<u32>, Vec<f64>), RecoveryError> {
     let mut region: Vec<u32> = depth
         .iter()
         .map(|&d| {
@@ -43,36 +79,31 @@ pub(crate) fn classify(
         })
         .collect();
     let mut attributes = vec![0.0];
-    let component_at = |cdt: &mut ConstrainedTriangulation2, p: [f64; 2]| match cdt.locate(p) {
-        Location::Cell(c) => Some(component[c.index()] as usize),
-        Location::Vertex(_) => None,
-    };
-    for r in &plc.regions {
-        if let Some(comp) = component_at(cdt, r.point) {
+    for &(comp, attribute) in regions {
+        if let Some(comp) = comp {
             if depth[comp] > 0 && depth[comp] != u32::MAX {
                 region[comp] = attributes.len() as u32;
             }
         }
-        attributes.push(r.attribute);
+        attributes.push(attribute);
     }
-    for &h in &plc.holes {
-        if let Some(comp) = component_at(cdt, h) {
-            region[comp] = OUTSIDE;
-        }
+    for &comp in holes.iter().flatten() {
+        region[comp] = OUTSIDE;
     }
-    let mut any_inside = false;
-    for &c in &cells {
-        let mut tag = region[component[c.index()] as usize];
-        if cdt.triangulation().is_ghost(c) {
-            tag = OUTSIDE;
-        }
-        any_inside |= tag != OUTSIDE;
-        cdt.set_tag(c, tag);
-    }
-    if !any_inside {
+    let tags: Vec<u32> = cells
+        .iter()
+        .map(|&c| {
+            if is_ghost(c) {
+                OUTSIDE
+            } else {
+                region[component[c.index()] as usize]
+            }
+        })
+        .collect();
+    if tags.iter().all(|&t| t == OUTSIDE) {
         return Err(RecoveryError::EmptyDomain);
     }
-    Ok(attributes)
+    Ok((tags, attributes))
 }
 
 /// Groups `cells` (each with `facets` facets) into components connected across facets that are

@@ -12,8 +12,8 @@ use crate::error::RecoveryError;
 use crate::plc3::Plc3;
 use delmesh_delaunay_core::{CellId, ConstrainedTriangulation3, Location};
 
-use crate::classify::components_by_depth;
 pub(crate) use crate::classify::OUTSIDE;
+use crate::classify::{components_by_depth, domain_tags};
 
 /// Tags every cell of `ct` with its region index (0 for the default region, `1 + k` for the
 /// `k`-th region seed) or [`OUTSIDE`]; returns the attribute of each region index.
@@ -30,45 +30,22 @@ pub(crate) fn classify3(
         |c, i| tri.neighbor_facet(c, i).cell(),
         |c| tri.is_ghost(c),
     );
-    let mut region: Vec<u32> = depth
-        .iter()
-        .map(|&d| {
-            if d != u32::MAX && d % 2 == 1 {
-                0
-            } else {
-                OUTSIDE
-            }
-        })
-        .collect();
-    let mut attributes = vec![0.0];
     let component_at = |ct: &mut ConstrainedTriangulation3, p: [f64; 3]| match ct.locate(p) {
         Location::Cell(c) => Some(component[c.index()] as usize),
         Location::Vertex(_) => None,
     };
-    for r in &plc.regions {
-        if let Some(comp) = component_at(ct, r.point) {
-            if depth[comp] > 0 && depth[comp] != u32::MAX {
-                region[comp] = attributes.len() as u32;
-            }
-        }
-        attributes.push(r.attribute);
-    }
-    for &h in &plc.holes {
-        if let Some(comp) = component_at(ct, h) {
-            region[comp] = OUTSIDE;
-        }
-    }
-    let mut any_inside = false;
-    for &c in &cells {
-        let mut tag = region[component[c.index()] as usize];
-        if ct.triangulation().is_ghost(c) {
-            tag = OUTSIDE;
-        }
-        any_inside |= tag != OUTSIDE;
+    let regions: Vec<_> = plc
+        .regions
+        .iter()
+        .map(|r| (component_at(ct, r.point), r.attribute))
+        .collect();
+    let holes: Vec<_> = plc.holes.iter().map(|&h| component_at(ct, h)).collect();
+    let tri = ct.triangulation();
+    let (tags, attributes) = domain_tags(&cells, &component, &depth, &regions, &holes, |c| {
+        tri.is_ghost(c)
+    })?;
+    for (&c, tag) in cells.iter().zip(tags) {
         ct.set_tag(c, tag);
-    }
-    if !any_inside {
-        return Err(RecoveryError::EmptyDomain);
     }
     Ok(attributes)
 }

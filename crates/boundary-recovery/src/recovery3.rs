@@ -595,6 +595,20 @@ fn min_dihedral(p: [[f64; 3]; 4]) -> f64 {
     }
 }
 
+/// Whether the four vertices are a cell of `tri` (`star`: a buffer for the search).
+fn is_tetrahedron(
+    stars: &mut StarSearch,
+    tri: &Triangulation3,
+    t: [VertexId; 4],
+    star: &mut Vec<CellId>,
+) -> bool {
+    stars.star(tri, t[0], star);
+    star.iter().any(|&c| {
+        let v = tri.cell(c);
+        t[1..].iter().all(|z| v.contains(z))
+    })
+}
+
 /// The side of the domain of each surface triangle, by the nesting of the closed surfaces:
 /// just inside a surface at even depth (the far field, a hollow body's cavity wall) is domain,
 /// just inside one at odd depth (a body) is not. +1 is along the triangle's normal.
@@ -1113,12 +1127,7 @@ impl<'a> State<'a> {
                 if cos < FLAT_SURFACE.to_radians().cos() || min_dihedral(pts) >= FLAT_DIHEDRAL {
                     continue;
                 }
-                self.stars.star(&self.tri, u, &mut star);
-                let is_tet = star.iter().any(|&c| {
-                    let v = self.tri.cell(c);
-                    [w, x, y].iter().all(|z| v.contains(z))
-                });
-                if !is_tet {
+                if !is_tetrahedron(&mut self.stars, &self.tri, [u, w, x, y], &mut star) {
                     continue;
                 }
                 let on_domain_side = |t: [VertexId; 3], z: VertexId, s: f64| {
@@ -1172,12 +1181,7 @@ impl<'a> State<'a> {
                         let o = subfaces[j];
                         let m = (0..3).find(|&m| o[m] == w).unwrap_or(0);
                         let y = o[(m + 2) % 3];
-                        self.stars.star(&self.tri, u, &mut star);
-                        let is_tet = star.iter().any(|&c| {
-                            let v = self.tri.cell(c);
-                            [w, x, y].iter().all(|z| v.contains(z))
-                        });
-                        if !is_tet {
+                        if !is_tetrahedron(&mut self.stars, &self.tri, [u, w, x, y], &mut star) {
                             continue;
                         }
                         // y is on the side of (u, w, x)'s normal (the facet's) when positive.

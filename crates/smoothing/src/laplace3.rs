@@ -52,7 +52,7 @@
 //! close in memory.
 
 use crate::adjacency::{colour_classes, spatial_order3, Rows};
-use crate::tet::{cross, dihedrals_within, dot, min_dihedral_cos, sub, worst_cos_at_most, P3};
+use crate::tet::{cross, dot, min_dihedral_cos, sub, worst_cos_at_most, P3};
 use crate::{SmoothError, SmoothStats, MAX_HALVINGS, REGULAR_DIHEDRAL};
 use delmesh_predicates::{orient3d, Sign, COORDINATE_RANGE};
 use rayon::prelude::*;
@@ -401,7 +401,7 @@ impl Smoother3 {
                 {
                     return false;
                 }
-                let Guard::On { floor_cos2 } = guard else {
+                let Guard::On { floor_cos } = guard else {
                     return true;
                 };
                 // The face normals of (y, a, b, c), as `tet::face_normals` orders them.
@@ -412,7 +412,7 @@ impl Smoother3 {
                     cross(yc, ya),
                     cross(ya, yb),
                 ];
-                if floor_cos2.is_some_and(|c2| dihedrals_within(&g, c2)) {
+                if floor_cos.is_some_and(|c| worst_cos_at_most(&g, c)) {
                     return true;
                 }
                 // Below the floor: allowed only if the star is already worse than this. The
@@ -462,10 +462,10 @@ type Move = (u32, Option<(P3, u32)>, f64);
 #[derive(Clone, Copy)]
 enum Guard {
     Off,
-    /// `floor_cos2`: the squared cosine of the floor, `None` for no floor below which every
+    /// `floor_cos`: the cosine of the floor, `None` for no floor below which every
     /// angle is fine (never lower the minimum).
     On {
-        floor_cos2: Option<f64>,
+        floor_cos: Option<f64>,
     },
 }
 
@@ -476,9 +476,9 @@ impl From<DihedralGuard> for Guard {
             // No tetrahedron has all its angles above the regular one's: such a floor only
             // ever lets a move keep the current minimum.
             DihedralGuard::Floor(f) if f < REGULAR_DIHEDRAL => Guard::On {
-                floor_cos2: Some(f.to_radians().cos().powi(2)),
+                floor_cos: Some(f.to_radians().cos()),
             },
-            DihedralGuard::Floor(_) | DihedralGuard::NoDecrease => Guard::On { floor_cos2: None },
+            DihedralGuard::Floor(_) | DihedralGuard::NoDecrease => Guard::On { floor_cos: None },
         }
     }
 }

@@ -105,23 +105,8 @@ pub(crate) fn worst_cos(g: &[P3; 4]) -> f64 {
 }
 
 /// Whether every dihedral angle of the tetrahedron with face normals `g` has a cosine of at
-/// most `c`, given `c2 = c²` for some `c ≥ 0`, without square roots: `−g_k·g_l ≤ c·|g_k|·|g_l|`
-/// squared where the left side is positive. False if a face is degenerate.
-#[inline]
-pub(crate) fn dihedrals_within(g: &[P3; 4], c2: f64) -> bool {
-    let len2 = g.map(|x| dot(x, x));
-    // Products of two squared lengths stay in range for ordinary scales: no rescaling then.
-    if len2.iter().all(|&l| l > 1e-140 && l < 1e140) {
-        within(g, &len2, c2)
-    } else {
-        let g = scaled(g);
-        let len2 = g.map(|x| dot(x, x));
-        len2.iter().all(|&l| l > 0.0) && within(&g, &len2, c2)
-    }
-}
-
-/// Whether every dihedral angle of the tetrahedron with face normals `g` has a cosine of at
-/// most `c` (any `c`): `worst_cos(g) <= c`, without square roots.
+/// most `c` (any `c`): `worst_cos(g) <= c`, without square roots. False if a face is degenerate
+/// (for `c < 1`).
 #[inline]
 pub(crate) fn worst_cos_at_most(g: &[P3; 4], c: f64) -> bool {
     if c >= 1.0 {
@@ -149,14 +134,6 @@ fn cos_at_most(g: &[P3; 4], len2: &[f64; 4], c: f64) -> bool {
         } else {
             d < 0.0 && d * d >= r
         }
-    })
-}
-
-#[inline(always)]
-fn within(g: &[P3; 4], len2: &[f64; 4], c2: f64) -> bool {
-    FACE_PAIRS.iter().all(|&(k, l)| {
-        let d = -dot(g[k], g[l]);
-        d <= 0.0 || d * d <= c2 * len2[k] * len2[l]
     })
 }
 
@@ -292,14 +269,14 @@ mod tests {
         assert!((min_dihedral_cos(&p) - 1.0 / 3.0).abs() < 1e-15);
         assert!((radius_edge(&p) - 6f64.sqrt() / 4.0).abs() < 1e-15);
         let g = face_normals(&p);
-        assert!(dihedrals_within(&g, (0.3334f64).powi(2)));
-        assert!(!dihedrals_within(&g, (0.3333f64).powi(2)));
+        assert!(worst_cos_at_most(&g, 0.3334));
+        assert!(!worst_cos_at_most(&g, 0.3333));
         // Scale does not matter, even where squared products of normals would overflow.
         for scale in [1e-60, 1e60] {
             let q = p.map(|x| x.map(|c| c * scale));
             let g = face_normals(&q);
-            assert!(dihedrals_within(&g, (0.3334f64).powi(2)), "{scale}");
-            assert!(!dihedrals_within(&g, (0.3333f64).powi(2)), "{scale}");
+            assert!(worst_cos_at_most(&g, 0.3334), "{scale}");
+            assert!(!worst_cos_at_most(&g, 0.3333), "{scale}");
             assert!((min_dihedral_cos(&q) - 1.0 / 3.0).abs() < 1e-15);
             let (lo, hi) = dihedral_extremes(&q);
             assert!((lo - want).abs() < 1e-12 && (hi - want).abs() < 1e-12);
