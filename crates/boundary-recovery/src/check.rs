@@ -24,6 +24,8 @@ pub(crate) struct CheckedPlc {
     pub(crate) segments: Vec<Segment>,
     /// For each segment, the input segment it came from (0-based).
     pub(crate) origin: Vec<u32>,
+    /// Points that repeat an earlier one exactly: (duplicate, first occurrence), 0-based.
+    pub(crate) merged: Vec<(u32, u32)>,
 }
 
 /// A uniform grid of buckets over a bounding box.
@@ -184,6 +186,10 @@ pub(crate) fn check(plc: &Plc2, geometric: bool) -> Result<CheckedPlc, RecoveryE
                 .or_insert(i as u32)
         })
         .collect();
+    let merged: Vec<(u32, u32)> = (0..n as u32)
+        .filter(|&i| canon[i as usize] != i)
+        .map(|i| (i, canon[i as usize]))
+        .collect();
 
     let mut segments = Vec::with_capacity(plc.segments.len());
     let mut origin = Vec::with_capacity(plc.segments.len());
@@ -236,6 +242,7 @@ pub(crate) fn check(plc: &Plc2, geometric: bool) -> Result<CheckedPlc, RecoveryE
             points: plc.points.clone(),
             segments,
             origin,
+            merged,
         });
     }
     let grid = Grid::new(&boxes, lo, hi);
@@ -293,7 +300,7 @@ pub(crate) fn check(plc: &Plc2, geometric: bool) -> Result<CheckedPlc, RecoveryE
         segments = split_segments;
         origin = split_origin;
     }
-    check_crossings(plc, segments, origin, lo, hi)
+    check_crossings(plc, segments, origin, merged, lo, hi)
 }
 
 /// Errors if two segments intersect other than at a shared end point.
@@ -301,6 +308,7 @@ fn check_crossings(
     plc: &Plc2,
     segments: Vec<Segment>,
     origin: Vec<u32>,
+    merged: Vec<(u32, u32)>,
     lo: [f64; 2],
     hi: [f64; 2],
 ) -> Result<CheckedPlc, RecoveryError> {
@@ -343,5 +351,6 @@ fn check_crossings(
         points: plc.points.clone(),
         segments,
         origin,
+        merged,
     })
 }

@@ -64,6 +64,9 @@ pub struct RecoveryHistory {
     pub a_priori_points: usize,
     /// Boundary edges for which no empty circle was found (APriori only).
     pub a_priori_rejected: usize,
+    /// Input points that repeat an earlier one exactly, merged into it: (duplicate, first),
+    /// in the input's numbering.
+    pub merged_points: Vec<(u64, u64)>,
 }
 
 impl RecoveryHistory {
@@ -99,8 +102,35 @@ impl fmt::Display for RecoveryHistory {
                 self.a_priori_points, self.a_priori_rejected
             )?;
         }
+        if !self.merged_points.is_empty() {
+            writeln!(
+                f,
+                "duplicates merged: {} ({})",
+                self.merged_points.len(),
+                merged_list(&self.merged_points)
+            )?;
+        }
         Ok(())
     }
+}
+
+/// How many merged duplicate points a recovery history lists by number.
+const MERGED_SHOWN: usize = 5;
+
+/// The first merged duplicates as `points 5 into 3, 9 into 1, and 4 more`.
+pub(crate) fn merged_list(merged: &[(u64, u64)]) -> String {
+    let shown: Vec<String> = merged
+        .iter()
+        .take(MERGED_SHOWN)
+        .map(|(d, first)| format!("{d} into {first}"))
+        .collect();
+    let more = merged.len().saturating_sub(MERGED_SHOWN);
+    let more = if more > 0 {
+        format!(", and {more} more")
+    } else {
+        String::new()
+    };
+    format!("points {}{more}", shown.join(", "))
 }
 
 /// A boundary edge of the mesh: a piece of an input segment.
@@ -190,8 +220,14 @@ impl BoundaryRecovery {
             });
         }
         let tri = Triangulation2::new(&points)?;
+        let base = u64::from(plc.first_index);
         let mut history = RecoveryHistory {
             method: self.method,
+            merged_points: checked
+                .merged
+                .iter()
+                .map(|&(d, first)| (u64::from(d) + base, u64::from(first) + base))
+                .collect(),
             ..Default::default()
         };
         let mut state = State::new(tri, &checked, plc);

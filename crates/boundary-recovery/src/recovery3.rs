@@ -41,6 +41,7 @@ use crate::apriori3::a_priori_points;
 use crate::classify3::{classify3, OUTSIDE};
 use crate::error::RecoveryError;
 use crate::plc3::Plc3;
+use crate::recovery::merged_list;
 use crate::surface::{check_surface, CheckedSurface, PointLocation};
 use delmesh_delaunay_core::{
     find_face_in, CellId, ConstrainedTriangulation2, ConstrainedTriangulation3, FacetRef,
@@ -93,6 +94,9 @@ pub struct RecoveryHistory3 {
     pub surface_points: usize,
     /// Field points given with the surface (after duplicates are merged).
     pub field_points: usize,
+    /// Input points that repeat an earlier one exactly, merged into it: (duplicate, first),
+    /// in the input's numbering.
+    pub merged_points: Vec<(u64, u64)>,
     /// Surface triangles of the input.
     pub surface_faces: usize,
     /// Edges of the input surface.
@@ -148,6 +152,10 @@ impl fmt::Display for RecoveryHistory3 {
                 "  left out, on the surface:",
                 self.field_points_on_surface,
             )?;
+        }
+        if !self.merged_points.is_empty() {
+            row(f, "  duplicates merged:", self.merged_points.len())?;
+            writeln!(f, "    {}", merged_list(&self.merged_points))?;
         }
         row(f, "No. of surface faces:", self.surface_faces)?;
         row(f, "No. of surface edges:", self.surface_edges)?;
@@ -493,6 +501,13 @@ impl BoundaryRecovery3 {
             a_priori_points: a_priori,
             a_priori_rejected,
             field_points_on_surface: dropped_on_surface,
+            merged_points: checked.as_ref().map_or_else(Vec::new, |c| {
+                let base = u64::from(plc.first_index);
+                c.merged
+                    .iter()
+                    .map(|&(d, first)| (u64::from(d) + base, u64::from(first) + base))
+                    .collect()
+            }),
             ..Default::default()
         };
         state.recover(&mut history)?;

@@ -284,6 +284,11 @@ fn a_point_on_a_segment_splits_it_and_duplicates_merge() {
     let a = mesh.to_arrays();
     assert!(a.coords.contains(&[0.0, -2.0]));
     assert_eq!(a.edges.len(), 5);
+    // The merge is reported in the input's numbering.
+    let corner = loops[0].iter().position(|&p| p == [2.0, 2.0]).unwrap() as u64;
+    assert_eq!(mesh.history.merged_points, vec![(5, corner)]);
+    let shown = format!("duplicates merged: 1 (points 5 into {corner})");
+    assert!(mesh.history.to_string().contains(&shown), "{}", mesh.history);
 }
 
 #[test]

@@ -243,6 +243,24 @@ fn cube_alone() {
 }
 
 #[test]
+fn duplicate_points_are_merged_and_reported_in_the_history() {
+    // A cube whose first triangle names a copy of its first corner.
+    let (mut p, mut t) = box_surface([0.0; 3], [1.0; 3], 1, true);
+    let copied = t[0][0];
+    p.push(p[copied as usize]);
+    t[0][0] = p.len() as u32 - 1;
+    let mut plc = Plc3::default();
+    add_surface(&mut plc, &p, &t, 1);
+    plc.first_index = 1;
+    let mesh = BoundaryRecovery3::default().run(&plc).unwrap();
+    check(&plc, &mesh, 1.0);
+    let dup = p.len() as u64; // 1-based
+    assert_eq!(mesh.history.merged_points, vec![(dup, u64::from(copied) + 1)]);
+    let shown = format!("points {dup} into {}", copied + 1);
+    assert!(mesh.history.to_string().contains(&shown), "{}", mesh.history);
+}
+
+#[test]
 fn sphere_in_box() {
     let mut plc = Plc3::default();
     let (p, t) = box_surface([-2.0; 3], [2.0; 3], 4, true);

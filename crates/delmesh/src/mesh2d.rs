@@ -383,11 +383,12 @@ impl MeshRun2 {
             .collect::<Vec<_>>()
             .join(", ");
         format!(
-            "{{\n  \"points\": {},\n  \"triangles\": {},\n  \"boundary_edges\": {},\n  \"recovery\": {{\"method\": \"{:?}\", \"passes\": {recovery}}},\n  \"generation\": {generation},\n  \"flips_after_smoothing\": {},\n  \"quality\": {},\n  \"seconds\": {{{timings}}}\n}}\n",
+            "{{\n  \"points\": {},\n  \"triangles\": {},\n  \"boundary_edges\": {},\n  \"recovery\": {{\"method\": \"{:?}\", \"duplicates_merged\": {}, \"passes\": {recovery}}},\n  \"generation\": {generation},\n  \"flips_after_smoothing\": {},\n  \"quality\": {},\n  \"seconds\": {{{timings}}}\n}}\n",
             self.arrays.coords.len(),
             self.arrays.triangles.len(),
             self.arrays.edges.len(),
             self.recovery.method,
+            self.recovery.merged_points.len(),
             self.flips,
             self.quality.to_json()
         )

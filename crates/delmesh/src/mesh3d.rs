@@ -483,9 +483,10 @@ impl MeshRun3 {
                     .collect(),
             );
             format!(
-                "{{\"surface_points\": {}, \"field_points\": {}, \"surface_faces\": {}, \"surface_edges\": {}, \"initial_tetrahedra\": {}, \"steps\": {steps}, \"edge_points\": {}, \"face_points\": {}, \"final_surface_edges\": {}, \"final_surface_faces\": {}, \"tetrahedra_outside\": {}, \"tetrahedra_inside\": {}}}",
+                "{{\"surface_points\": {}, \"field_points\": {}, \"duplicates_merged\": {}, \"surface_faces\": {}, \"surface_edges\": {}, \"initial_tetrahedra\": {}, \"steps\": {steps}, \"edge_points\": {}, \"face_points\": {}, \"final_surface_edges\": {}, \"final_surface_faces\": {}, \"tetrahedra_outside\": {}, \"tetrahedra_inside\": {}}}",
                 h.surface_points,
                 h.field_points,
+                h.merged_points.len(),
                 h.surface_faces,
                 h.surface_edges,
                 h.initial_tetrahedra,
