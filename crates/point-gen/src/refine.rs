@@ -115,14 +115,23 @@ impl QualityRefinement {
     }
 }
 
-/// The sine of a triangle's smallest angle.
+/// The sine of a triangle's smallest angle: twice its area over the product of the two longer
+/// edges.
 fn min_sine(p: [[f64; 2]; 3]) -> f64 {
     let d = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2);
     let (e0, e1, e2) = (d(p[1], p[2]), d(p[2], p[0]), d(p[0], p[1]));
-    let shortest = e0.min(e1).min(e2);
     let twice_area =
         (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
-    twice_area / (e0 * e1 * e2 / shortest).sqrt()
+    // Squared lengths of ordinary scales: their product neither overflows nor underflows.
+    if [e0, e1, e2].iter().all(|&e| e > 1e-90 && e < 1e90) {
+        let shortest = e0.min(e1).min(e2);
+        return twice_area / (e0 * e1 * e2 / shortest).sqrt();
+    }
+    // Otherwise the two longer lengths one at a time (the area may still be 0 or infinite at
+    // the very ends of the range, which reads as skinny or not, never as NaN).
+    let mut l = [e0, e1, e2].map(f64::sqrt);
+    l.sort_unstable_by(f64::total_cmp);
+    twice_area / l[2] / l[1]
 }
 
 /// The circumcentre of a triangle, if it is finite.
@@ -136,4 +145,20 @@ fn circumcentre(p: [[f64; 2]; 3]) -> Option<[f64; 2]> {
         p[0][1] + (bx * c2 - cx * b2) / d,
     ];
     (c[0].is_finite() && c[1].is_finite()).then_some(c)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::min_sine;
+
+    #[test]
+    fn min_sine_does_not_depend_on_the_scale() {
+        // A 30°-60°-90° triangle: the smallest angle's sine is 1/2 at every scale.
+        let t = [[0.0, 0.0], [3f64.sqrt(), 0.0], [0.0, 1.0]];
+        for e in [-140, -90, -60, -30, 0, 30, 60, 90, 140] {
+            let s = 10f64.powi(e);
+            let p = t.map(|q| q.map(|x| x * s));
+            assert!((min_sine(p) - 0.5).abs() < 1e-12, "scale 1e{e}: {}", min_sine(p));
+        }
+    }
 }
