@@ -288,7 +288,11 @@ fn a_point_on_a_segment_splits_it_and_duplicates_merge() {
     let corner = loops[0].iter().position(|&p| p == [2.0, 2.0]).unwrap() as u64;
     assert_eq!(mesh.history.merged_points, vec![(5, corner)]);
     let shown = format!("duplicates merged: 1 (points 5 into {corner})");
-    assert!(mesh.history.to_string().contains(&shown), "{}", mesh.history);
+    assert!(
+        mesh.history.to_string().contains(&shown),
+        "{}",
+        mesh.history
+    );
 }
 
 #[test]

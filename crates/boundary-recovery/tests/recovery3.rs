@@ -255,9 +255,16 @@ fn duplicate_points_are_merged_and_reported_in_the_history() {
     let mesh = BoundaryRecovery3::default().run(&plc).unwrap();
     check(&plc, &mesh, 1.0);
     let dup = p.len() as u64; // 1-based
-    assert_eq!(mesh.history.merged_points, vec![(dup, u64::from(copied) + 1)]);
+    assert_eq!(
+        mesh.history.merged_points,
+        vec![(dup, u64::from(copied) + 1)]
+    );
     let shown = format!("points {dup} into {}", copied + 1);
-    assert!(mesh.history.to_string().contains(&shown), "{}", mesh.history);
+    assert!(
+        mesh.history.to_string().contains(&shown),
+        "{}",
+        mesh.history
+    );
 }
 
 #[test]

@@ -158,7 +158,11 @@ mod tests {
         for e in [-140, -90, -60, -30, 0, 30, 60, 90, 140] {
             let s = 10f64.powi(e);
             let p = t.map(|q| q.map(|x| x * s));
-            assert!((min_sine(p) - 0.5).abs() < 1e-12, "scale 1e{e}: {}", min_sine(p));
+            assert!(
+                (min_sine(p) - 0.5).abs() < 1e-12,
+                "scale 1e{e}: {}",
+                min_sine(p)
+            );
         }
     }
 }
