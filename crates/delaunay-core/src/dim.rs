@@ -98,7 +98,7 @@ impl Dim for D2 {
     }
 
     fn hilbert_key(q: &[u32]) -> u64 {
-        crate::sort::hilbert_key::<2>([q[0], q[1]], 16)
+        crate::sort::hilbert_key::<2>([q[0], q[1]])
     }
 
     fn circumcenter(p: &[[f64; 2]]) -> [f64; 2] {
@@ -160,7 +160,7 @@ impl Dim for D3 {
     }
 
     fn hilbert_key(q: &[u32]) -> u64 {
-        crate::sort::hilbert_key::<3>([q[0], q[1], q[2]], 16)
+        crate::sort::hilbert_key::<3>([q[0], q[1], q[2]])
     }
 
     fn circumcenter(p: &[[f64; 3]]) -> [f64; 3] {
