@@ -46,6 +46,13 @@ pub trait Dim: Copy + Clone + Debug + Send + Sync + 'static {
     fn circumcenter(p: &[Self::Point]) -> Self::Point;
 }
 
+/// [`pred::incircle_lex`] for four cocircular points (rare: kept out of the hot path).
+#[cold]
+#[inline(never)]
+fn incircle_on_circle(p: [[f64; 2]; 4]) -> Sign {
+    pred::incircle_lex(p)
+}
+
 /// Two dimensions: triangles.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct D2;
@@ -71,7 +78,13 @@ impl Dim for D2 {
             points[cell[1].index()],
             points[cell[2].index()],
         );
-        pred::incircle_lex([a, b, c, q])
+        // The plain test first, with the points passed as they are: packing them into one
+        // array made the compiler store them and reload them wider, which stalls (store
+        // forwarding fails). Only a zero needs the perturbation.
+        match pred::incircle(a, b, c, q) {
+            Sign::Zero => incircle_on_circle([a, b, c, q]),
+            s => s,
+        }
     }
 
     #[inline(always)]
