@@ -21,7 +21,7 @@
 //! of a pass are evaluated in parallel; the result does not depend on the number of threads.
 
 use crate::SpacingField;
-use delmesh_boundary_recovery::{Mesh2, OUTSIDE};
+use delmesh_boundary_recovery::Mesh2;
 use delmesh_delaunay_core::{CellId, ConstraintError, Dim, Insertion, VertexId, D2};
 use rayon::prelude::*;
 use std::fmt;
@@ -158,7 +158,6 @@ impl PointGeneration {
         while report.passes.len() < self.max_passes && added < self.max_points {
             let previous = mesh.cdt.changed_in_epoch();
             let epoch = mesh.cdt.next_epoch(true);
-            cells.retain(|&c| mesh.is_element(c));
             for c in retry.drain(..) {
                 // Not already listed as changed.
                 if mesh.cdt.changed_in(c) != previous && mesh.is_element(c) {
@@ -172,7 +171,7 @@ impl PointGeneration {
             // Each accepted candidate with its Hilbert key (16 bits per axis, so 32 bits) above
             // its cell: sorting these keys is sorting by key, then cell.
             let bad = AtomicBool::new(false);
-            let mut todo: Vec<(u64, [f64; 2], f64, f64)> = cells
+            let found: Vec<(u64, [f64; 2], f64, f64)> = cells
                 .par_iter()
                 .with_min_len(1 << 10)
                 .filter_map(|&c| match self.candidate(mesh, c, dp_now, field) {
@@ -202,9 +201,17 @@ impl PointGeneration {
                     }
                 }
             }
-            todo.par_sort_unstable_by_key(|t| t.0);
+            // Sorting (key, position) pairs moves less memory than sorting the candidates.
+            let mut order: Vec<(u64, u32)> = found
+                .par_iter()
+                .with_min_len(1 << 12)
+                .enumerate()
+                .map(|(i, t)| (t.0, i as u32))
+                .collect();
+            order.par_sort_unstable_by_key(|t| t.0);
             let mut accepted = 0;
-            for &(key, g, h, reach2) in &todo {
+            for &(key, i) in &order {
+                let (_, g, h, reach2) = found[i as usize];
                 let c = CellId(key as u32);
                 if added >= self.max_points {
                     break;
@@ -256,14 +263,15 @@ impl PointGeneration {
         Ok(report)
     }
 
-    /// The candidate of element `c`: its centroid with its spacing, unless a node of `c` is
-    /// within `α·dp` of it (most candidates fail here, before any walk).
+    /// The candidate of cell `c` if it is an element: its centroid with its spacing, unless a
+    /// node of `c` is within `α·dp` of it (most candidates fail here, before any walk).
     fn candidate(&self, mesh: &Mesh2, c: CellId, dp: &[f64], field: &SpacingField) -> Candidate {
-        let tri = mesh.cdt.triangulation();
-        let v = tri.cell(c);
-        if mesh.cdt.tag(c) == OUTSIDE || v.iter().any(|u| u.is_ghost()) {
+        // (The changed cells are not filtered beforehand: this is the one read of them.)
+        if !mesh.is_element(c) {
             return Candidate::Refused;
         }
+        let tri = mesh.cdt.triangulation();
+        let v = tri.cell(c);
         let p = [tri.vertex(v[0]), tri.vertex(v[1]), tri.vertex(v[2])];
         let g = [
             (p[0][0] + p[1][0] + p[2][0]) / 3.0,
@@ -287,7 +295,7 @@ impl PointGeneration {
 /// What an element proposes.
 #[derive(Clone, Copy, Debug)]
 enum Candidate {
-    /// Nothing (outside, or a node too close to its centroid).
+    /// Nothing (not an element, or a node too close to its centroid).
     Refused,
     /// The spacing field gave a bad value at the centroid.
     BadSpacing { value: f64, at: [f64; 2] },
