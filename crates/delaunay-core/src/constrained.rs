@@ -314,21 +314,20 @@ impl ConstrainedTriangulation2 {
     ) -> Result<Option<Insertion>, ConstraintError> {
         let input = self.tri.vertex_of_input.len();
         let p = self.tri.scaled_input(point)?;
-        let c = match self.tri.locate_from(p, hint) {
-            Location::Vertex(v) => {
+        // The walk's own orientation tests tell whether the point is on an edge of its cell.
+        let (c, on_edge) = match self.tri.locate_on_facet(p, hint) {
+            (Location::Vertex(v), _) => {
                 self.tri.vertex_of_input.push(v);
                 let original = self.tri.input_index[v.index()] as usize;
                 self.tri.duplicates.push((input, original));
                 return Ok(Some(Insertion::Duplicate(v)));
             }
-            Location::Cell(c) => c,
+            (Location::Cell(c), on_edge) => (c, on_edge),
         };
         if self.tri.is_ghost(c) {
             return Err(ConstraintError::OutsideHull { point });
         }
         let s = self.tri.simplices[c.index()];
-        let on_edge =
-            (0..3).find(|&i| D2::orient_replacing(&self.tri.points, &s.v, i, p) == Sign::Zero);
         if let Some(i) = on_edge {
             if self.tri.is_ghost(s.n[i].cell()) {
                 return Err(ConstraintError::OutsideHull { point });
@@ -473,20 +472,17 @@ impl ConstrainedTriangulation2 {
     /// on the hull, and the vertex across it lies inside the circumcircle of `c` (perturbed).
     #[inline]
     fn needs_flip(&self, c: CellId, i: usize) -> bool {
-        if self.is_constrained(c, i) || self.tri.is_ghost(c) {
+        let s = &self.tri.simplices[c.index()];
+        if self.is_constrained(c, i) || s.v[..3].iter().any(|u| u.is_ghost()) {
             return false;
         }
-        let across = self.tri.simplices[c.index()].n[i];
-        let e = across.cell();
-        if self.tri.is_ghost(e) {
+        let across = s.n[i];
+        // The cell across is a ghost exactly when its vertex opposite the (finite) edge is.
+        let d = self.tri.simplices[across.cell().index()].v[across.facet()];
+        if d.is_ghost() {
             return false;
         }
-        let d = self.tri.simplices[e.index()].v[across.facet()];
-        D2::insphere_cell(
-            &self.tri.points,
-            &self.tri.simplices[c.index()].v,
-            self.pt(d),
-        ) == Sign::Positive
+        D2::insphere_cell(&self.tri.points, &s.v, self.pt(d)) == Sign::Positive
     }
 
     /// Lawson flips after inserting `v`: the queued edges are opposite `v`; each flip queues the

@@ -46,6 +46,13 @@ pub trait Dim: Copy + Clone + Debug + Send + Sync + 'static {
     fn circumcenter(p: &[Self::Point]) -> Self::Point;
 }
 
+/// [`pred::incircle_lex`] for four cocircular points (rare: kept out of the hot path).
+#[cold]
+#[inline(never)]
+fn incircle_on_circle(p: [[f64; 2]; 4]) -> Sign {
+    pred::incircle_lex(p)
+}
+
 /// Two dimensions: triangles.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct D2;
@@ -71,7 +78,13 @@ impl Dim for D2 {
             points[cell[1].index()],
             points[cell[2].index()],
         );
-        pred::incircle_lex([a, b, c, q])
+        // The plain test first, with the points passed as they are: packing them into one
+        // array made the compiler store them and reload them wider, which stalls (store
+        // forwarding fails). Only a zero needs the perturbation.
+        match pred::incircle(a, b, c, q) {
+            Sign::Zero => incircle_on_circle([a, b, c, q]),
+            s => s,
+        }
     }
 
     #[inline(always)]
@@ -98,7 +111,7 @@ impl Dim for D2 {
     }
 
     fn hilbert_key(q: &[u32]) -> u64 {
-        crate::sort::hilbert_key::<2>([q[0], q[1]], 16)
+        crate::sort::hilbert_key::<2>([q[0], q[1]])
     }
 
     fn circumcenter(p: &[[f64; 2]]) -> [f64; 2] {
@@ -160,7 +173,7 @@ impl Dim for D3 {
     }
 
     fn hilbert_key(q: &[u32]) -> u64 {
-        crate::sort::hilbert_key::<3>([q[0], q[1], q[2]], 16)
+        crate::sort::hilbert_key::<3>([q[0], q[1], q[2]])
     }
 
     fn circumcenter(p: &[[f64; 3]]) -> [f64; 3] {

@@ -514,7 +514,20 @@ impl<D: Dim> Triangulation<D> {
     /// repeatedly cross a facet that has the point strictly on its far side. Delaunay
     /// triangulations have no cycles for this walk; the facet tried first is random, which keeps
     /// the walk short on regular grids.
+    #[inline]
     pub(crate) fn locate_from(&mut self, p: D::Point, start: CellId) -> Location {
+        self.locate_on_facet(p, start).0
+    }
+
+    /// [`Self::locate_from`], with, for a point in a finite cell, a facet of the cell whose
+    /// plane (line) the point lies on, if any: its orientation test was zero during the walk
+    /// (the facet the walk came in by is never one: the point is strictly beyond it).
+    #[inline]
+    pub(crate) fn locate_on_facet(
+        &mut self,
+        p: D::Point,
+        start: CellId,
+    ) -> (Location, Option<usize>) {
         let mut c = start;
         if let Some(g) = self.ghost_position(c) {
             c = self.simplices[c.index()].n[g].cell();
@@ -523,29 +536,35 @@ impl<D: Dim> Triangulation<D> {
         'walk: loop {
             let cell = self.simplices[c.index()];
             let offset = self.rng.below(D::C);
+            let mut on = None;
             for step in 0..D::C {
                 let f = (offset + step) % D::C;
                 if f == came_from {
                     continue;
                 }
-                if D::orient_replacing(&self.points, &cell.v, f, p) == Sign::Negative {
-                    let next = cell.n[f];
-                    c = next.cell();
-                    came_from = next.facet();
-                    if self.ghost_position(c).is_some() {
-                        // Strictly beyond a hull facet: that ghost cell is in conflict.
-                        return Location::Cell(c);
+                match D::orient_replacing(&self.points, &cell.v, f, p) {
+                    Sign::Negative => {
+                        let next = cell.n[f];
+                        c = next.cell();
+                        came_from = next.facet();
+                        if self.ghost_position(c).is_some() {
+                            // Strictly beyond a hull facet: that ghost cell is in conflict.
+                            return (Location::Cell(c), None);
+                        }
+                        continue 'walk;
                     }
-                    continue 'walk;
+                    // The lowest such facet, whatever the order of the tests.
+                    Sign::Zero => on = Some(on.map_or(f, |g: usize| g.min(f))),
+                    Sign::Positive => {}
                 }
             }
             // The point is in the closed cell: at a vertex, or inside (then in conflict).
             for k in 0..D::C {
                 if self.points[cell.v[k].index()] == p {
-                    return Location::Vertex(cell.v[k]);
+                    return (Location::Vertex(cell.v[k]), None);
                 }
             }
-            return Location::Cell(c);
+            return (Location::Cell(c), on);
         }
     }
 

@@ -21,7 +21,7 @@
 //! of a pass are evaluated in parallel; the result does not depend on the number of threads.
 
 use crate::SpacingField;
-use delmesh_boundary_recovery::{Mesh2, OUTSIDE};
+use delmesh_boundary_recovery::Mesh2;
 use delmesh_delaunay_core::{CellId, ConstraintError, Dim, Insertion, VertexId, D2};
 use rayon::prelude::*;
 use std::fmt;
@@ -158,7 +158,6 @@ impl PointGeneration {
         while report.passes.len() < self.max_passes && added < self.max_points {
             let previous = mesh.cdt.changed_in_epoch();
             let epoch = mesh.cdt.next_epoch(true);
-            cells.retain(|&c| mesh.is_element(c));
             for c in retry.drain(..) {
                 // Not already listed as changed.
                 if mesh.cdt.changed_in(c) != previous && mesh.is_element(c) {
@@ -202,6 +201,8 @@ impl PointGeneration {
                     }
                 }
             }
+            // (Sorting (key, position) pairs instead moves less memory in the sort, but the
+            // insertions then read the candidates out of order: no faster, measured.)
             todo.par_sort_unstable_by_key(|t| t.0);
             let mut accepted = 0;
             for &(key, g, h, reach2) in &todo {
@@ -256,14 +257,15 @@ impl PointGeneration {
         Ok(report)
     }
 
-    /// The candidate of element `c`: its centroid with its spacing, unless a node of `c` is
-    /// within `α·dp` of it (most candidates fail here, before any walk).
+    /// The candidate of cell `c` if it is an element: its centroid with its spacing, unless a
+    /// node of `c` is within `α·dp` of it (most candidates fail here, before any walk).
     fn candidate(&self, mesh: &Mesh2, c: CellId, dp: &[f64], field: &SpacingField) -> Candidate {
-        let tri = mesh.cdt.triangulation();
-        let v = tri.cell(c);
-        if mesh.cdt.tag(c) == OUTSIDE || v.iter().any(|u| u.is_ghost()) {
+        // (The changed cells are not filtered beforehand: this is the one read of them.)
+        if !mesh.is_element(c) {
             return Candidate::Refused;
         }
+        let tri = mesh.cdt.triangulation();
+        let v = tri.cell(c);
         let p = [tri.vertex(v[0]), tri.vertex(v[1]), tri.vertex(v[2])];
         let g = [
             (p[0][0] + p[1][0] + p[2][0]) / 3.0,
@@ -287,7 +289,7 @@ impl PointGeneration {
 /// What an element proposes.
 #[derive(Clone, Copy, Debug)]
 enum Candidate {
-    /// Nothing (outside, or a node too close to its centroid).
+    /// Nothing (not an element, or a node too close to its centroid).
     Refused,
     /// The spacing field gave a bad value at the centroid.
     BadSpacing { value: f64, at: [f64; 2] },
