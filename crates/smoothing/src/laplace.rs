@@ -163,6 +163,9 @@ struct Tile {
     inner: std::ops::Range<usize>,
     /// Local indices of the halo points (seam or fixed, all at or above `seam_start`).
     halo: Vec<u32>,
+    /// The inner points that seam points read (indices in the tile): only these are copied
+    /// out after each pass, the others once after the last.
+    exposed: Vec<u32>,
     /// Rings of the inner points, in buffer indices (inner point `i` is `i`, halo point `h` is
     /// `inner.len() + h`).
     start: Vec<u32>,
@@ -295,7 +298,9 @@ impl Smoother {
                         let ring = &tile.ring[tile.start[v] as usize..tile.start[v + 1] as usize];
                         buf[v] = self.propose(buf, v, ring, &mut star, &mut t);
                     }
-                    own.copy_from_slice(&buf[..n]);
+                    for &i in &tile.exposed {
+                        own[i as usize] = buf[i as usize];
+                    }
                     t
                 })
                 .reduce(Tally::default, Tally::merge);
@@ -330,6 +335,15 @@ impl Smoother {
             stats.last_displacement = all.largest.sqrt();
             if stats.last_displacement < CONVERGED {
                 break;
+            }
+        }
+        // The inner points of the tiles, from their buffers (which hold them after a pass).
+        if stats.passes > 0 {
+            let mut tail = &mut points[..layout.seam_start];
+            for (t, buf) in layout.tiles.iter().zip(&buffers) {
+                let (own, more) = tail.split_at_mut(t.inner.len());
+                own.copy_from_slice(&buf[..t.inner.len()]);
+                tail = more;
             }
         }
         stats
@@ -711,13 +725,28 @@ impl Layout {
             ring.extend(ring_at(i as usize).iter().map(|&u| local[u as usize]));
             start.push(ring.len() as u32);
         }
+        // The inner points on seam rings, in order.
+        let mut exposed: Vec<u32> = ring
+            .iter()
+            .copied()
+            .filter(|&l| (l as usize) < seam_start)
+            .collect();
+        exposed.sort_unstable();
+        exposed.dedup();
         // Tiles: rings in buffer indices, halo points numbered after the inner ones.
         let tiles = tile_ranges
             .into_par_iter()
             .map(|range| {
+                let within = |l: &u32| (*l as usize) < range.start;
+                let from = exposed.partition_point(within);
+                let to = exposed.partition_point(|l| (*l as usize) < range.end);
                 let mut tile = Tile {
                     inner: range.clone(),
                     halo: Vec::new(),
+                    exposed: exposed[from..to]
+                        .iter()
+                        .map(|&l| l - range.start as u32)
+                        .collect(),
                     start: vec![0u32],
                     ring: Vec::new(),
                 };
