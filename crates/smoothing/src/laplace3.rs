@@ -430,26 +430,9 @@ impl Smoother3 {
                 if worst_cos_at_most(&g, cos_now(i)) {
                     return true;
                 }
-                if let Some(limit) = now {
-                    return worst_cos_at_most(&g, limit);
-                }
-                // The test against the star's worst cosine, from a running maximum: the test
-                // is monotone in the bound, so passing below the maximum is passing at it, and
-                // the remaining tetrahedra need not be measured.
-                let mut limit = -1.0f64;
-                let mut tried = false;
-                for j in 0..faces.len() {
-                    let c = cos_now(j);
-                    if c > limit {
-                        limit = c;
-                        tried = true;
-                        if worst_cos_at_most(&g, limit) {
-                            return true;
-                        }
-                    }
-                }
-                now = Some(limit);
-                !tried && worst_cos_at_most(&g, limit)
+                let limit =
+                    *now.get_or_insert_with(|| (0..faces.len()).map(cos_now).fold(-1.0, f64::max));
+                worst_cos_at_most(&g, limit)
             };
             // The tetrahedron that refused the last trial is likely to refuse a halved one too:
             // ask it first (the answer does not depend on the order).
