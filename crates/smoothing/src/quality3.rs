@@ -12,7 +12,7 @@
 //! partial results are combined in chunk order, so every figure, sums included, is the same
 //! whatever the number of threads.
 
-use crate::tet::{angle_between, extremes, radius_edge, volume6, Extremes, P3};
+use crate::tet::{dihedral_extremes, radius_edge, volume6, P3};
 use delmesh_predicates::{orient3d, Sign};
 use rayon::prelude::*;
 use std::fmt;
@@ -111,12 +111,7 @@ struct Partial {
     vmin: f64,
     vmax: f64,
     dmin: f64,
-    /// The largest angle is measured once, for the tetrahedron whose widest angle has the
-    /// smallest cosine: its cosine and face normals, and whether a flat tetrahedron (180°)
-    /// was met.
-    widest_cos: f64,
-    widest: Option<(P3, P3)>,
-    flat: bool,
+    dmax: f64,
     sum_min: f64,
     histogram: [usize; 8],
     slivers: usize,
@@ -133,9 +128,7 @@ impl Partial {
             vmin: f64::INFINITY,
             vmax: f64::NEG_INFINITY,
             dmin: f64::INFINITY,
-            widest_cos: f64::INFINITY,
-            widest: None,
-            flat: false,
+            dmax: f64::NEG_INFINITY,
             sum_min: 0.0,
             histogram: [0; 8],
             slivers: 0,
@@ -151,11 +144,7 @@ impl Partial {
         self.vmin = self.vmin.min(o.vmin);
         self.vmax = self.vmax.max(o.vmax);
         self.dmin = self.dmin.min(o.dmin);
-        if o.widest_cos < self.widest_cos {
-            self.widest_cos = o.widest_cos;
-            self.widest = o.widest;
-        }
-        self.flat |= o.flat;
+        self.dmax = self.dmax.max(o.dmax);
         self.sum_min += o.sum_min;
         for (h, x) in self.histogram.iter_mut().zip(o.histogram) {
             *h += x;
@@ -269,21 +258,9 @@ impl QualityReport3 {
                     part.total += vol;
                     part.vmin = part.vmin.min(vol);
                     part.vmax = part.vmax.max(vol);
-                    let lo = match extremes(&p) {
-                        Extremes::Nan => f64::NAN,
-                        Extremes::Flat => {
-                            part.flat = true;
-                            0.0
-                        }
-                        Extremes::Angles { g, lo, hi, hi_cos } => {
-                            if hi_cos < part.widest_cos {
-                                part.widest_cos = hi_cos;
-                                part.widest = Some((g[hi.0], g[hi.1]));
-                            }
-                            angle_between(g[lo.0], g[lo.1]).to_degrees()
-                        }
-                    };
+                    let (lo, hi) = dihedral_extremes(&p);
                     part.dmin = part.dmin.min(lo);
+                    part.dmax = part.dmax.max(hi);
                     part.sum_min += lo;
                     part.histogram[bin(lo)] += 1;
                     if lo.is_nan() || lo < SLIVER_ANGLE {
@@ -307,10 +284,7 @@ impl QualityReport3 {
         r.min_volume = all.vmin;
         r.max_volume = all.vmax;
         r.min_dihedral = all.dmin;
-        let widest = all
-            .widest
-            .map_or(f64::NEG_INFINITY, |(a, b)| angle_between(a, b).to_degrees());
-        r.max_dihedral = if all.flat { widest.max(180.0) } else { widest };
+        r.max_dihedral = all.dmax;
         r.mean_min_dihedral = all.sum_min / count;
         r.min_dihedral_histogram = all.histogram;
         r.slivers = all.slivers;

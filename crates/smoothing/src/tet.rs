@@ -139,38 +139,22 @@ fn cos_at_most(g: &[P3; 4], len2: &[f64; 4], c: f64) -> bool {
 
 /// The angle (radians) between `g_k` and `−g_l`: the interior dihedral angle at their edge.
 #[inline]
-pub(crate) fn angle_between(gk: P3, gl: P3) -> f64 {
+fn angle_between(gk: P3, gl: P3) -> f64 {
     let c = cross(gk, gl);
     dot(c, c).sqrt().atan2(-dot(gk, gl))
 }
 
-/// The two extreme dihedral angles of a tetrahedron, picked by their cosines (not yet
-/// measured: see [`angle_between`]).
-pub(crate) enum Extremes {
-    /// A coordinate is NaN.
-    Nan,
-    /// A face is degenerate: 0° and 180°.
-    Flat,
-    /// The scaled face normals, the face pairs at the smallest and the largest angle, and the
-    /// cosine of the largest.
-    Angles {
-        g: [P3; 4],
-        lo: (usize, usize),
-        hi: (usize, usize),
-        hi_cos: f64,
-    },
-}
-
-/// The extreme dihedral angles of `p`, picked by their cosines.
-#[inline]
-pub(crate) fn extremes(p: &[P3; 4]) -> Extremes {
+/// The smallest and largest dihedral angles of `p` in degrees. The two extreme edges are
+/// picked by their cosines, then measured with `atan2` (accurate near 0° and 180°, where a
+/// sliver's angles are). A tetrahedron with a degenerate face gives 0° and 180°.
+pub(crate) fn dihedral_extremes(p: &[P3; 4]) -> (f64, f64) {
     let g = scaled(&face_normals(p));
     let len = g.map(|x| dot(x, x).sqrt());
     if len.iter().any(|&l| l.is_nan() || l <= 0.0) {
         if len.iter().any(|l| l.is_nan()) {
-            return Extremes::Nan;
+            return (f64::NAN, f64::NAN);
         }
-        return Extremes::Flat;
+        return (0.0, 180.0);
     }
     let (mut lo, mut hi) = ((0, 1), (0, 1));
     let (mut cmax, mut cmin) = (f64::NEG_INFINITY, f64::INFINITY);
@@ -185,26 +169,10 @@ pub(crate) fn extremes(p: &[P3; 4]) -> Extremes {
             hi = (k, l);
         }
     }
-    Extremes::Angles {
-        g,
-        lo,
-        hi,
-        hi_cos: cmin,
-    }
-}
-
-/// The smallest and largest dihedral angles of `p` in degrees. The two extreme edges are
-/// picked by their cosines, then measured with `atan2` (accurate near 0° and 180°, where a
-/// sliver's angles are). A tetrahedron with a degenerate face gives 0° and 180°.
-pub(crate) fn dihedral_extremes(p: &[P3; 4]) -> (f64, f64) {
-    match extremes(p) {
-        Extremes::Nan => (f64::NAN, f64::NAN),
-        Extremes::Flat => (0.0, 180.0),
-        Extremes::Angles { g, lo, hi, .. } => (
-            angle_between(g[lo.0], g[lo.1]).to_degrees(),
-            angle_between(g[hi.0], g[hi.1]).to_degrees(),
-        ),
-    }
+    (
+        angle_between(g[lo.0], g[lo.1]).to_degrees(),
+        angle_between(g[hi.0], g[hi.1]).to_degrees(),
+    )
 }
 
 /// Circumradius over shortest edge (infinite for a flat tetrahedron).
