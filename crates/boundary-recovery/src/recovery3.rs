@@ -409,10 +409,19 @@ impl BoundaryRecovery3 {
     /// A surface that fails the checks (naming the facets), a surface that could not be
     /// recovered within the bound, or a domain with no element inside.
     pub fn run(&self, plc: &Plc3) -> Result<Mesh3, RecoveryError> {
-        let checked = if self.trusted {
-            None
+        // With no field points and no a-priori points, the triangulation is of the surface
+        // points alone: it is built on the second thread while the surface is checked.
+        let alone = !self.trusted
+            && self.extra_points.is_empty()
+            && self.method == RecoveryMethod3::Conforming
+            && plc.points.iter().flatten().all(|x| x.is_finite());
+        let (checked, early) = if self.trusted {
+            (None, None)
+        } else if alone {
+            let (c, t) = rayon::join(|| check_surface(plc), || Triangulation3::new(&plc.points));
+            (Some(c?), Some(t))
         } else {
-            Some(check_surface(plc)?)
+            (Some(check_surface(plc)?), None)
         };
         let n_input = plc.points.len();
         if let Some(i) = plc
@@ -475,7 +484,10 @@ impl BoundaryRecovery3 {
             a_priori_rejected = rejected;
             points.extend(placed);
         }
-        let tri = Triangulation3::new(&points)?;
+        let tri = match early {
+            Some(t) => t?,
+            None => Triangulation3::new(&points)?,
+        };
         let mut state = State::new(tri, plc, self.max_steiner)?;
         // Vertices by where their point came from (duplicates merged).
         let n_extra = extra.len();

@@ -244,8 +244,10 @@ pub fn restore_delaunay(
         }
         for k in 0..4 {
             let mut f = [t[(k + 1) % 4], t[(k + 2) % 4], t[(k + 3) % 4]];
-            f.sort_unstable();
-            opposite.insert(f, t[k]);
+            if f.iter().all(|&v| on[v as usize]) {
+                f.sort_unstable();
+                opposite.insert(f, t[k]);
+            }
         }
     }
     let sides = arrays

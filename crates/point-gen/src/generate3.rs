@@ -120,10 +120,10 @@ impl PointGeneration3 {
         let mut report = GenerationReport3::default();
         let mut added = 0usize;
         let mut cells: Vec<CellId> = mesh.elements().collect();
-        let mut next: Vec<CellId> = Vec::new();
+        // The cell slots made in the current pass (a slot freed and reused counts once).
+        let mut made: Vec<bool> = Vec::new();
         while report.passes.len() < self.max_passes && added < self.max_points {
             let (mut accepted, mut refused) = (0, 0);
-            next.clear();
             for &c in &cells {
                 if added >= self.max_points {
                     break;
@@ -173,7 +173,12 @@ impl PointGeneration3 {
                         if mesh.on_surface.len() <= nv.index() {
                             mesh.on_surface.resize(nv.index() + 1, false);
                         }
-                        next.extend_from_slice(mesh.ct.last_new_cells());
+                        for &n in mesh.ct.last_new_cells() {
+                            if made.len() <= n.index() {
+                                made.resize(n.index() + 1, false);
+                            }
+                            made[n.index()] = true;
+                        }
                         accepted += 1;
                         added += 1;
                     }
@@ -191,10 +196,13 @@ impl PointGeneration3 {
                 refused,
                 elements: mesh.num_elements(),
             });
-            // Only the cells made in this pass can give a new candidate.
-            next.sort_unstable();
-            next.dedup();
-            std::mem::swap(&mut cells, &mut next);
+            // Only the cells made in this pass can give a new candidate, in slot order.
+            cells.clear();
+            for (i, m) in made.iter_mut().enumerate() {
+                if std::mem::take(m) {
+                    cells.push(CellId(i as u32));
+                }
+            }
             if accepted == 0 {
                 break;
             }

@@ -67,6 +67,13 @@ pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
     if m > TINY && det.abs() > 4.8e-15 * (m * m * m) {
         return Sign::of(-det);
     }
+    orient3d_exact(a, b, c, d)
+}
+
+/// Exact [`orient3d`] after its filter failed (out of line, as [`insphere_exact`]).
+#[cold]
+#[inline(never)]
+fn orient3d_exact(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
     if let Some(s) = crate::integer::orient3d(&[
         a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2],
     ]) {
@@ -158,8 +165,11 @@ pub(crate) fn insphere_filter(
     None
 }
 
-/// Exact [`insphere`] after its filter failed.
-#[inline]
+/// Exact [`insphere`] after its filter failed. Out of line: its integer arithmetic needs a
+/// large stack frame (tens of kilobytes, probed page by page), which inlined would be set up on
+/// every call of the filter's fast path.
+#[cold]
+#[inline(never)]
 pub(crate) fn insphere_exact(p: &[[f64; 3]; 5]) -> Sign {
     let flat: [f64; 15] = std::array::from_fn(|i| p[i / 3][i % 3]);
     if let Some(s) = crate::integer::insphere(&flat) {

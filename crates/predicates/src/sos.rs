@@ -87,6 +87,14 @@ pub fn insphere_lex(p: [[f64; 3]; 5]) -> Sign {
     if let Some(s) = crate::exact::insphere_filter(p[0], p[1], p[2], p[3], p[4]) {
         return s;
     }
+    insphere_lex_exact(p)
+}
+
+/// [`insphere_lex`] after its filter failed: out of line, so that the fast path inlined into
+/// the triangulation's cavity search keeps a small stack frame.
+#[cold]
+#[inline(never)]
+fn insphere_lex_exact(p: [[f64; 3]; 5]) -> Sign {
     match crate::exact::insphere_exact(&p) {
         Sign::Zero => tiebreak3(&p, p.map(|q| std::cmp::Reverse(Lex(q)))),
         s => s,
