@@ -29,6 +29,9 @@ pub struct MeshArrays3 {
     pub face_facets: Vec<u32>,
     /// The triangulation vertex of each output vertex.
     pub vertex: Vec<VertexId>,
+    /// `neighbours[t][k]`: the tetrahedron across the face of `tets[t]` opposite its vertex
+    /// `k`, or `u32::MAX` where that face is on the boundary of the output.
+    pub neighbours: Vec<[u32; 4]>,
 }
 
 /// Signed volume of the tetrahedron `a b c d` (positive when right-handed).
@@ -100,6 +103,22 @@ impl Mesh3 {
             regions: Vec::with_capacity(elements.len()),
             ..Default::default()
         };
+        // Each element's output index, by cell slot, for the neighbours.
+        let slots = elements.iter().map(|c| c.index() + 1).max().unwrap_or(0);
+        let mut index = vec![u32::MAX; slots];
+        for (k, &c) in elements.iter().enumerate() {
+            index[c.index()] = k as u32;
+        }
+        out.neighbours = elements
+            .iter()
+            .map(|&c| {
+                [0, 1, 2, 3].map(|k| {
+                    tri.neighbor(c, k)
+                        .and_then(|n| index.get(n.index()).copied())
+                        .unwrap_or(u32::MAX)
+                })
+            })
+            .collect();
         for &c in &elements {
             let v = tri.cell(c);
             out.tets.push([0, 1, 2, 3].map(|k| number[v[k].index()]));

@@ -227,6 +227,40 @@ fn check(plc: &Plc3, mesh: &Mesh3, volume: f64) {
     }
     // The boundary faces are exactly the protected faces.
     assert_eq!(mesh.ct.protected_faces().len(), mesh.faces.len());
+    // Neighbour rows: symmetric, across the very face, and none across a face only at the
+    // boundary of the output, which is then a boundary face.
+    let key = |t: [u32; 4], k: usize| {
+        let mut f: Vec<u32> = (0..4).filter(|&m| m != k).map(|m| t[m]).collect();
+        f.sort_unstable();
+        f
+    };
+    let boundary: std::collections::HashSet<Vec<u32>> = arrays
+        .faces
+        .iter()
+        .map(|f| {
+            let mut f = f.to_vec();
+            f.sort_unstable();
+            f
+        })
+        .collect();
+    assert_eq!(arrays.neighbours.len(), arrays.tets.len());
+    for (t, row) in arrays.neighbours.iter().enumerate() {
+        for (k, &u) in row.iter().enumerate() {
+            let face = key(arrays.tets[t], k);
+            if u == u32::MAX {
+                assert!(
+                    boundary.contains(&face),
+                    "tetrahedron {t} face {k}: open, not boundary"
+                );
+                continue;
+            }
+            let back = arrays.neighbours[u as usize]
+                .iter()
+                .position(|&w| w == t as u32);
+            let back = back.expect("neighbour rows symmetric");
+            assert_eq!(key(arrays.tets[u as usize], back), face);
+        }
+    }
 }
 
 #[test]

@@ -172,7 +172,7 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
     let measure_before = || {
         before
             .as_ref()
-            .map(|coords| QualityReport3::of_tetrahedra(coords, &arrays.tets))
+            .map(|coords| QualityReport3::of_mesh(coords, &arrays.tets, &arrays.neighbours))
     };
     let (quality_before_smoothing, restored) = if restore {
         let (q, m) = rayon::join(measure_before, || {
@@ -191,7 +191,7 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
     } else if quality_before_smoothing.is_some() {
         lap("quality", &mut timings);
     }
-    let quality = QualityReport3::of_tetrahedra(&arrays.coords, &arrays.tets);
+    let quality = QualityReport3::of_mesh(&arrays.coords, &arrays.tets, &arrays.neighbours);
     lap("quality", &mut timings);
     Ok(MeshRun3 {
         recovery: recovery_history,
