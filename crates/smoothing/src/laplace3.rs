@@ -54,7 +54,7 @@
 use crate::adjacency::{colour_classes, spatial_order3, Rows};
 use crate::tet::{cross, dot, min_dihedral_cos, sub, worst_cos_at_most, P3};
 use crate::{SmoothError, SmoothStats, MAX_HALVINGS, REGULAR_DIHEDRAL};
-use delmesh_predicates::{orient3d, Sign, COORDINATE_RANGE};
+use delmesh_predicates::{orient3d, Sign};
 use rayon::prelude::*;
 
 /// A move may shrink a tetrahedron around the point to this fraction of its old volume, no
@@ -193,9 +193,8 @@ impl Smoother3 {
     /// oriented; with the whole boundary fixed the mesh's total volume is unchanged.
     ///
     /// # Errors
-    /// Lengths that do not match, an index out of range, a coordinate that is not finite or of
-    /// magnitude above [`COORDINATE_RANGE`], or an input tetrahedron that is not positively
-    /// oriented.
+    /// Lengths that do not match, an index out of range, a coordinate that is not finite, or
+    /// an input tetrahedron that is not positively oriented.
     pub fn smooth(
         &self,
         points: &mut [[f64; 3]],
@@ -215,22 +214,26 @@ impl Smoother3 {
                 "{n} points: at most 2^32 - 1 can be indexed"
             )));
         }
-        if let Some(i) = points.iter().position(|p| {
-            p.iter()
-                .any(|x| !x.is_finite() || x.abs() > COORDINATE_RANGE.1)
-        }) {
+        if let Some(i) = points.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
             return Err(SmoothError::BadInput(format!(
-                "point {i} is not finite or too large ({:?})",
+                "point {i} is not finite ({:?})",
                 points[i]
             )));
         }
+        // Coordinates far from ordinary magnitudes are smoothed scaled by a power of two
+        // (exact both ways), so the predicates stay exact and the angle guard's products
+        // neither overflow nor underflow; ordinary ones are used as they are.
+        let scale = normalising_scale(points);
+        let scaled: Option<Vec<[f64; 3]>> =
+            (scale != 1.0).then(|| points.iter().map(|p| p.map(|x| x * scale)).collect());
+        let view: &[[f64; 3]] = scaled.as_deref().unwrap_or(points);
         let bad = tets.par_iter().position_first(|t| {
             t.iter().any(|&v| v as usize >= n)
                 || orient3d(
-                    points[t[0] as usize],
-                    points[t[1] as usize],
-                    points[t[2] as usize],
-                    points[t[3] as usize],
+                    view[t[0] as usize],
+                    view[t[1] as usize],
+                    view[t[2] as usize],
+                    view[t[3] as usize],
                 ) != Sign::Positive
         });
         if let Some(k) = bad {
@@ -248,17 +251,22 @@ impl Smoother3 {
             return Ok(SmoothStats::default());
         }
         // Work on a copy numbered along a space-filling curve, then copy the points back.
-        let order = spatial_order3(points);
+        let order = spatial_order3(view);
         let mut rank = vec![0u32; n];
         for (i, &v) in order.iter().enumerate() {
             rank[v as usize] = i as u32;
         }
-        let mut local: Vec<[f64; 3]> = order.iter().map(|&v| points[v as usize]).collect();
+        let mut local: Vec<[f64; 3]> = order.iter().map(|&v| view[v as usize]).collect();
         let local_fixed: Vec<bool> = order.iter().map(|&v| fixed[v as usize]).collect();
         let local_tets: Vec<[u32; 4]> = tets.iter().map(|t| t.map(|v| rank[v as usize])).collect();
         let stats = self.relax(&mut local, &local_tets, &local_fixed);
+        let back = 1.0 / scale;
         for (i, &v) in order.iter().enumerate() {
-            points[v as usize] = local[i];
+            points[v as usize] = if scale == 1.0 {
+                local[i]
+            } else {
+                local[i].map(|x| x * back)
+            };
         }
         Ok(stats)
     }
@@ -501,4 +509,19 @@ mod tests {
             assert!(!f.contains(&k));
         }
     }
+}
+
+/// The power of two that brings the largest coordinate magnitude of `points` into [1, 2), or
+/// 1 if it is already between 2^-100 and 2^100 (or all are zero).
+fn normalising_scale(points: &[[f64; 3]]) -> f64 {
+    let largest = points
+        .iter()
+        .flat_map(|p| p.iter())
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    if largest == 0.0 || (2f64.powi(-100)..=2f64.powi(100)).contains(&largest) {
+        return 1.0;
+    }
+    // Any power of two near 1/largest will do (log2 may round up at the top of a binade).
+    let exponent = largest.log2().floor() as i32;
+    2f64.powi(-exponent.clamp(-1000, 1000))
 }

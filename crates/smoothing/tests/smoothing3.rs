@@ -338,7 +338,7 @@ fn bad_input_is_an_error() {
     // Flat and repeated-vertex tetrahedra are not positive either.
     assert!(s.smooth(&mut pts, &[[0, 1, 2, 2]], &fixed).is_err());
     assert!(s.smooth(&mut pts, &[[0, 1, 2, 3]], &fixed).is_err()); // 0 1 2 collinear
-    for bad in [f64::NAN, f64::INFINITY, 1e300] {
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
         let mut p = pts.clone();
         p[13] = [bad, 0.0, 0.0];
         let m = err(s.smooth(&mut p, &tets, &fixed));
@@ -347,6 +347,29 @@ fn bad_input_is_an_error() {
     // Nothing to do is fine.
     assert_eq!(s.smooth(&mut pts, &[], &fixed).unwrap().passes, 0);
     assert_eq!(s.smooth(&mut [], &[], &[]).unwrap().passes, 0);
+}
+
+#[test]
+fn far_scales_smooth_as_ordinary_ones() {
+    // Beyond the magnitudes the predicates take exactly, the smoother works on a copy scaled
+    // by a power of two: the moves are the ordinary ones, scaled.
+    let mut mesh = delaunay_cloud(600, 21);
+    jitter(&mut mesh, 0.02, 22);
+    let (pts, tets, fixed) = mesh;
+    let run = |scale: f64| {
+        let mut p: Vec<[f64; 3]> = pts.iter().map(|q| q.map(|x| x * scale)).collect();
+        let stats = Smoother3::new()
+            .iterations(5)
+            .smooth(&mut p, &tets, &fixed)
+            .unwrap();
+        let p: Vec<[f64; 3]> = p.iter().map(|q| q.map(|x| x / scale)).collect();
+        (p, stats)
+    };
+    let ordinary = run(1.0);
+    assert!(ordinary.1.moved > 0);
+    for e in [250, 600, -250, -600] {
+        assert_eq!(run(2f64.powi(e)), ordinary, "scale 2^{e}");
+    }
 }
 
 #[test]
