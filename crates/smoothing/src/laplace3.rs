@@ -491,6 +491,21 @@ impl From<DihedralGuard> for Guard {
     }
 }
 
+/// The power of two that brings the largest coordinate magnitude of `points` into [1, 2), or
+/// 1 if it is already between 2^-100 and 2^100 (or all are zero).
+fn normalising_scale(points: &[[f64; 3]]) -> f64 {
+    let largest = points
+        .iter()
+        .flat_map(|p| p.iter())
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    if largest == 0.0 || (2f64.powi(-100)..=2f64.powi(100)).contains(&largest) {
+        return 1.0;
+    }
+    // Any power of two near 1/largest will do (log2 may round up at the top of a binade).
+    let exponent = largest.log2().floor() as i32;
+    2f64.powi(-exponent.clamp(-1000, 1000))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -509,19 +524,4 @@ mod tests {
             assert!(!f.contains(&k));
         }
     }
-}
-
-/// The power of two that brings the largest coordinate magnitude of `points` into [1, 2), or
-/// 1 if it is already between 2^-100 and 2^100 (or all are zero).
-fn normalising_scale(points: &[[f64; 3]]) -> f64 {
-    let largest = points
-        .iter()
-        .flat_map(|p| p.iter())
-        .fold(0.0f64, |m, x| m.max(x.abs()));
-    if largest == 0.0 || (2f64.powi(-100)..=2f64.powi(100)).contains(&largest) {
-        return 1.0;
-    }
-    // Any power of two near 1/largest will do (log2 may round up at the top of a binade).
-    let exponent = largest.log2().floor() as i32;
-    2f64.powi(-exponent.clamp(-1000, 1000))
 }
