@@ -67,6 +67,10 @@ const TILE: usize = 16384;
 /// Points per parallel task when ordering the neighbours.
 const RING_CHUNK: usize = 1 << 14;
 
+/// Ranges of points whose corners are gathered in parallel (a fixed number, so that the work
+/// does not depend on the number of threads; each range scans all the triangles).
+const FILL_RANGES: usize = 2;
+
 /// Bad smoothing options or input.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SmoothError {
@@ -609,16 +613,34 @@ impl Layout {
         for i in 0..n {
             first[i + 1] += first[i];
         }
-        let mut fill = first.clone();
+        // Filled in parallel over FILL_RANGES ranges of points: each range scans all triangles
+        // and keeps its own corners (the scattered writes, not the scan, are the cost).
         let mut corners = vec![[0u32; 2]; first[n] as usize];
-        for r in &ranked {
-            for k in 0..3 {
-                let v = r[k] as usize;
-                corners[fill[v] as usize] = [r[(k + 1) % 3], r[(k + 2) % 3]];
-                fill[v] += 1;
-            }
+        let bounds: Vec<usize> = (0..=FILL_RANGES).map(|r| r * n / FILL_RANGES).collect();
+        let mut slices = Vec::with_capacity(FILL_RANGES);
+        let mut rest = &mut corners[..];
+        for r in 0..FILL_RANGES {
+            let len = (first[bounds[r + 1]] - first[bounds[r]]) as usize;
+            let (own, tail) = rest.split_at_mut(len);
+            slices.push(own);
+            rest = tail;
         }
-        drop((fill, ranked));
+        slices.into_par_iter().enumerate().for_each(|(r, own)| {
+            let points = bounds[r]..bounds[r + 1];
+            let base = first[points.start];
+            let mut fill: Vec<u32> = first[points.clone()].iter().map(|&f| f - base).collect();
+            for t in &ranked {
+                for k in 0..3 {
+                    let v = t[k] as usize;
+                    if points.contains(&v) {
+                        let at = &mut fill[v - points.start];
+                        own[*at as usize] = [t[(k + 1) % 3], t[(k + 2) % 3]];
+                        *at += 1;
+                    }
+                }
+            }
+        });
+        drop(ranked);
         // Rings of the free points whose corners chain into one closed cycle (Z numbering);
         // the others stay fixed.
         // (In parallel chunks of points, concatenated in order.)
