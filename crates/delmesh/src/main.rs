@@ -19,7 +19,9 @@ use delmesh::demos;
 use delmesh::io::AnyPoly;
 use delmesh::mesh2d::{self, MeshOptions2, Spacing};
 use delmesh::mesh3d::{self, MeshOptions3, Spacing3};
-use delmesh::point_gen::{Adaptation, PointGeneration, PointGeneration3, QualityRefinement3};
+use delmesh::point_gen::{
+    Adaptation, PointGeneration, PointGeneration3, QualityRefinement3, Source, Source3,
+};
 use delmesh::recovery::{RecoveryMethod, RecoveryMethod3};
 use delmesh::smoothing::{Smoother, Smoother3};
 
@@ -41,7 +43,7 @@ enum Command {
     /// Mesh a 2D domain (Triangle .poly) or the volume inside a 3D surface (.smesh, 3D .poly,
     /// .off, .stl, .obj, .mesh, .msh): boundary recovery, exterior deletion, automatic points,
     /// smoothing (the paper's whole method).
-    Mesh(MeshArgs),
+    Mesh(Box<MeshArgs>),
     /// Reproduce a figure of the paper; without NAME, list the demos.
     Demo(DemoArgs),
 }
@@ -101,6 +103,12 @@ struct MeshArgs {
     /// Largest spacing of --adapt.
     #[arg(long, value_name = "H")]
     max_spacing: Option<f64>,
+    /// A spacing source: spacing H0 within RADIUS of a point or a segment, growing by GROWTH
+    /// per unit distance beyond; the spacing is the smallest of the field's and the sources'.
+    /// 2D: `x,y,H0,RADIUS,GROWTH` or `x1,y1,x2,y2,H0,RADIUS,GROWTH`; 3D: `x,y,z,...` or
+    /// `x1,y1,z1,x2,y2,z2,...`. Repeat for several.
+    #[arg(long, value_name = "SPEC", allow_hyphen_values = true)]
+    source: Vec<String>,
     /// Smoothing relaxation factor ω (paper: 0.05–0.25; default 0.25 in 2D, 0.2 in 3D).
     #[arg(long)]
     omega: Option<f64>,
@@ -373,6 +381,16 @@ fn mesh(args: &MeshArgs) -> Result<()> {
         );
         options.spacing = Spacing::Background(mesh2d::read_adaptation(path, field, &adaptation)?);
     }
+    for spec in &args.source {
+        let (a, b, [h0, radius, growth]) = source_numbers(spec, 2)?;
+        options.sources.push(Source {
+            a: [a[0], a[1]],
+            b: [b[0], b[1]],
+            h0,
+            radius,
+            growth,
+        });
+    }
     options.smoothing = if args.no_smoothing {
         None
     } else {
@@ -402,6 +420,46 @@ fn mesh(args: &MeshArgs) -> Result<()> {
         eprintln!("validation: ok");
     }
     write_mesh_outputs(args, |out| Ok(run.write(out)?), &run.report_json())
+}
+
+/// The numbers of a `--source` value for a `dim`-dimensional mesh: one point (a point source)
+/// or two (a segment), then H0 > 0, RADIUS ≥ 0 and GROWTH ≥ 0, all finite.
+fn source_numbers(spec: &str, dim: usize) -> Result<(Vec<f64>, Vec<f64>, [f64; 3])> {
+    let bad = |why: String| anyhow::anyhow!("--source {spec}: {why}");
+    let numbers = spec
+        .split(',')
+        .map(|t| {
+            let t = t.trim();
+            match t.parse::<f64>() {
+                Ok(x) if x.is_finite() => Ok(x),
+                _ => Err(bad(format!("`{t}` is not a finite number"))),
+            }
+        })
+        .collect::<Result<Vec<f64>>>()?;
+    let ends = match numbers.len() {
+        n if n == dim + 3 => 1,
+        n if n == 2 * dim + 3 => 2,
+        n => {
+            return Err(bad(format!(
+                "{n} numbers; a {dim}D source takes {} (a point) or {} (a segment): \
+                 coordinates, then H0,RADIUS,GROWTH",
+                dim + 3,
+                2 * dim + 3
+            )))
+        }
+    };
+    let a = numbers[..dim].to_vec();
+    let b = numbers[(ends - 1) * dim..ends * dim].to_vec();
+    let [h0, radius, growth] = [0, 1, 2].map(|k| numbers[ends * dim + k]);
+    if h0 <= 0.0 {
+        return Err(bad(format!("spacing H0 must be positive (got {h0})")));
+    }
+    if radius < 0.0 || growth < 0.0 {
+        return Err(bad(format!(
+            "RADIUS and GROWTH must not be negative (got {radius}, {growth})"
+        )));
+    }
+    Ok((a, b, [h0, radius, growth]))
 }
 
 /// `delmesh mesh` on a 3D surface: recovery (Table 2), field points, Delaunay restoration.
@@ -481,6 +539,16 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
             field,
             &adaptation,
         )?));
+    }
+    for spec in &args.source {
+        let (a, b, [h0, radius, growth]) = source_numbers(spec, 3)?;
+        options.sources.push(Source3 {
+            a: [a[0], a[1], a[2]],
+            b: [b[0], b[1], b[2]],
+            h0,
+            radius,
+            growth,
+        });
     }
     let run = mesh3d::mesh_plc3(&plc, &options)
         .map_err(|e| anyhow::anyhow!("{}: {}", args.input.display(), e))?;

@@ -860,3 +860,95 @@ fn mesh_3d_with_a_background_mesh_and_adaptation() {
     ));
     assert!(msg.contains("nope") && msg.contains("bg.vtu"), "{msg}");
 }
+
+#[test]
+fn mesh_with_spacing_sources() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("sq.poly"), SQUARE_POLY).unwrap();
+    std::fs::write(dir.path().join("cube.off"), cube_off(1.0)).unwrap();
+    // Points of a mesh's .vtu within `r` of `c`, and all of them.
+    let near = |file: &str, dim: usize, c: &[f64], r: f64| {
+        let m = delmesh::io::read_vtu(&dir.path().join(file)).unwrap();
+        let close = m
+            .coords
+            .chunks(m.dim)
+            .filter(|p| (0..dim).map(|k| (p[k] - c[k]).powi(2)).sum::<f64>() < r * r)
+            .count();
+        (close, m.coords.len() / m.dim)
+    };
+
+    // 2D: a point source in a corner and a segment source along the far side.
+    ok(&delmesh(
+        dir.path(),
+        &["mesh", "sq.poly", "-o", "plain.vtu"],
+    ));
+    let out = delmesh(
+        dir.path(),
+        &[
+            "mesh",
+            "sq.poly",
+            "-o",
+            "src.vtu",
+            "--validate",
+            "--source",
+            "0.5,0.5,0.04,0.1,0.3",
+            "--source",
+            "3.6,0.4,3.6,3.6,0.1,0,0.5",
+        ],
+    );
+    assert!(ok(&out).contains("validation: ok"));
+    let (before, all_before) = near("plain.vtu", 2, &[0.5, 0.5], 0.3);
+    let (after, all_after) = near("src.vtu", 2, &[0.5, 0.5], 0.3);
+    assert!(
+        after > 5 * before.max(1),
+        "{before} -> {after} points near the source"
+    );
+    assert!(
+        all_after > all_before + after,
+        "{all_before} -> {all_after}"
+    );
+
+    // 3D: a point source at the cube's centre.
+    ok(&delmesh(dir.path(), &["mesh", "cube.off", "-o", "c0.vtu"]));
+    ok(&delmesh(
+        dir.path(),
+        &[
+            "mesh",
+            "cube.off",
+            "-o",
+            "c1.vtu",
+            "--source",
+            "0.5,0.5,0.5,0.05,0.1,0.5",
+        ],
+    ));
+    let (before, _) = near("c0.vtu", 3, &[0.5, 0.5, 0.5], 0.15);
+    let (after, _) = near("c1.vtu", 3, &[0.5, 0.5, 0.5], 0.15);
+    assert!(
+        after > 5 * before.max(1),
+        "{before} -> {after} points near the 3D source"
+    );
+
+    // Bad specifications are refused before any work, naming the value.
+    for (input, spec, why) in [
+        ("sq.poly", "1,2,3", "3 numbers"),
+        ("sq.poly", "0.5,0.5,0,0.1,0.3", "H0 must be positive"),
+        ("sq.poly", "0.5,0.5,0.1,-1,0.3", "must not be negative"),
+        ("sq.poly", "0.5,x,0.1,0.1,0.3", "`x` is not a finite number"),
+        (
+            "sq.poly",
+            "0.5,0.5,nan,0.1,0.3",
+            "`nan` is not a finite number",
+        ),
+        ("cube.off", "0.5,0.5,0.1,0.1,0.3", "a 3D source takes 6"),
+    ] {
+        let msg = fails(&delmesh(
+            dir.path(),
+            &["mesh", input, "-o", "bad.vtu", "--source", spec],
+        ));
+        assert!(
+            msg.contains(&format!("--source {spec}")) && msg.contains(why),
+            "{msg}"
+        );
+        assert!(!dir.path().join("bad.vtu").exists());
+    }
+}
