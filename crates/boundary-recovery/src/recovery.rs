@@ -265,12 +265,18 @@ impl BoundaryRecovery {
                     .count();
                 history.passes.push(pass);
                 // A vertex found inside a segment splits it there (as the input checks do for
-                // the other methods).
+                // the other methods); pieces that overlapping collinear segments share are
+                // kept once.
                 let mut work: Vec<Sub> = std::mem::take(&mut state.subs);
                 work.reverse();
+                let mut present = std::collections::HashSet::new();
                 while let Some(s) = work.pop() {
                     match cdt.insert_segment(s.a, s.b) {
-                        Ok(()) => state.subs.push(s),
+                        Ok(()) => {
+                            if present.insert((s.a.min(s.b), s.a.max(s.b))) {
+                                state.subs.push(s);
+                            }
+                        }
                         Err(ConstraintError::VertexOnSegment { vertex, .. }) => {
                             work.push(Sub { a: vertex, ..s });
                             work.push(Sub { b: vertex, ..s });

@@ -338,6 +338,41 @@ fn regions_get_their_attributes_and_a_wake_line_is_kept() {
     }
 }
 
+#[test]
+fn overlapping_collinear_segments_share_their_pieces() {
+    // Inside a square, 1-3 and 2-3.5 overlap on 2-3, and 1.5-2.5 lies inside 1-3: splitting at
+    // the points inside gave the pieces twice (a-priori recovery then failed on the copy).
+    let loops = vec![square([2.0, 2.0], 2.0, true)];
+    let mut plc = plc_of(&loops);
+    plc.points.extend([
+        [1.0, 2.0],
+        [3.0, 2.0],
+        [2.0, 2.0],
+        [3.5, 2.0],
+        [1.5, 2.0],
+        [2.5, 2.0],
+    ]);
+    for (a, b) in [(4, 5), (6, 7), (8, 9)] {
+        plc.segments.push(Segment { a, b, marker: 2 });
+    }
+    for method in METHODS {
+        let mesh = BoundaryRecovery::new(method).run(&plc).unwrap();
+        mesh.cdt.validate().unwrap();
+        assert!((mesh.area() - 16.0).abs() < 1e-12, "{method:?}");
+        let mut edges: Vec<_> = mesh
+            .edges
+            .iter()
+            .map(|e| (e.a.min(e.b), e.a.max(e.b)))
+            .collect();
+        let n = edges.len();
+        edges.sort();
+        edges.dedup();
+        assert_eq!(edges.len(), n, "{method:?}: a boundary edge twice");
+        // 4 sides, and 1 - 1.5 - 2 - 2.5 - 3 - 3.5 on the line.
+        assert_eq!(n, 9, "{method:?}");
+    }
+}
+
 /// A star-shaped loop around `c` with `n` random radii in `[r0, r1]`.
 fn star(rng: &mut StdRng, c: [f64; 2], n: usize, r0: f64, r1: f64, ccw: bool) -> Vec<[f64; 2]> {
     let mut l: Vec<[f64; 2]> = (0..n)
