@@ -339,6 +339,27 @@ fn regions_get_their_attributes_and_a_wake_line_is_kept() {
 }
 
 #[test]
+fn a_priori_works_at_coordinates_near_1e300() {
+    // Squared lengths overflowed: the empty-circle search scanned i64::MIN..=i64::MAX buckets.
+    for scale in [1e300, 1e-300] {
+        let loops = vec![
+            square([0.0, 0.0], 2.0 * scale, true),
+            square([0.5 * scale, 0.0], 0.5 * scale, false),
+        ];
+        let plc = plc_of(&loops);
+        let mesh = BoundaryRecovery::new(RecoveryMethod::APriori)
+            .run(&plc)
+            .unwrap();
+        mesh.cdt.validate().unwrap();
+        assert!(mesh.history.a_priori_points > 0);
+        let exact = 15.0 * scale * scale;
+        if exact.is_normal() {
+            assert!((mesh.area() - exact).abs() <= 1e-12 * exact);
+        }
+    }
+}
+
+#[test]
 fn overlapping_collinear_segments_share_their_pieces() {
     // Inside a square, 1-3 and 2-3.5 overlap on 2-3, and 1.5-2.5 lies inside 1-3: splitting at
     // the points inside gave the pieces twice (a-priori recovery then failed on the copy).
