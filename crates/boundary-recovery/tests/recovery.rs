@@ -394,6 +394,51 @@ fn overlapping_collinear_segments_share_their_pieces() {
     }
 }
 
+#[test]
+fn a_seed_on_a_segment_between_two_parts_is_an_error() {
+    let loops = vec![
+        square([0.0, 0.0], 2.0, true),
+        square([0.0, 0.0], 1.0, false),
+    ];
+    let mut plc = plc_of(&loops);
+    plc.first_index = 1;
+    // On the hole's bottom side (which side is meant depended on the method), then at its corner.
+    for seed in [[0.0, -1.0], [1.0, 1.0]] {
+        plc.holes = vec![[0.0, 0.0], seed];
+        for method in METHODS {
+            assert_eq!(
+                BoundaryRecovery::new(method).run(&plc).unwrap_err(),
+                RecoveryError::SeedOnBoundary {
+                    what: "hole",
+                    index: 2,
+                    point: seed,
+                },
+                "{method:?}"
+            );
+        }
+    }
+    // A seed on an open line or at a vertex inside one part is fine: it was ignored at a vertex.
+    plc.holes.clear();
+    plc.points.extend([[1.5, -0.5], [1.5, 0.5], [-1.5, 0.0]]);
+    plc.segments.push(Segment {
+        a: 8,
+        b: 9,
+        marker: 3,
+    });
+    for seed in [[1.5, 0.0], [-1.5, 0.0]] {
+        plc.regions = vec![RegionSeed {
+            point: seed,
+            attribute: 4.0,
+            max_area: None,
+        }];
+        for method in METHODS {
+            let mesh = BoundaryRecovery::new(method).run(&plc).unwrap();
+            let a = mesh.to_arrays();
+            assert!(a.regions.iter().all(|&r| r == 4.0), "{method:?} {seed:?}");
+        }
+    }
+}
+
 /// A star-shaped loop around `c` with `n` random radii in `[r0, r1]`.
 fn star(rng: &mut StdRng, c: [f64; 2], n: usize, r0: f64, r1: f64, ccw: bool) -> Vec<[f64; 2]> {
     let mut l: Vec<[f64; 2]> = (0..n)
