@@ -3,9 +3,10 @@
 //! - coordinates are finite; duplicate points are merged (segments use the first occurrence);
 //! - segment end points exist and differ; repeated segments are dropped;
 //! - a point lying inside a segment splits it there (as Triangle does), so the segment can be
-//!   recovered at all;
-//! - no two segments cross or overlap: that is an error naming both, since no recovery could
-//!   make both present.
+//!   recovered at all; collinear segments that overlap are thereby split into shared pieces,
+//!   each kept once;
+//! - no two segments cross: that is an error naming both, since no recovery could make both
+//!   present.
 //!
 //! Segment pairs and point–segment pairs are found through a uniform grid of buckets, so the
 //! checks cost about linear time on ordinary inputs; every decision is an exact orientation test.
@@ -297,8 +298,22 @@ pub(crate) fn check(plc: &Plc2, geometric: bool) -> Result<CheckedPlc, RecoveryE
             });
             split_origin.push(origin[si]);
         }
-        segments = split_segments;
-        origin = split_origin;
+        // Collinear segments that overlap now share pieces: keep the first of each.
+        seen.clear();
+        let keep: Vec<bool> = split_segments
+            .iter()
+            .map(|s| seen.insert((s.a.min(s.b), s.a.max(s.b)), ()).is_none())
+            .collect();
+        segments = split_segments
+            .into_iter()
+            .zip(&keep)
+            .filter_map(|(s, &k)| k.then_some(s))
+            .collect();
+        origin = split_origin
+            .into_iter()
+            .zip(&keep)
+            .filter_map(|(o, &k)| k.then_some(o))
+            .collect();
     }
     check_crossings(plc, segments, origin, merged, lo, hi)
 }

@@ -7,11 +7,13 @@
 //! even depth is outside: the far field's inside is domain, a body's inside is not, an island in
 //! a lake is domain again. An open internal line (a wake) has the same component on both sides
 //! and changes nothing. Hole seeds then remove their component, and region seeds give theirs an
-//! attribute (and make it part of the domain, unless it touches the outside of the hull).
+//! attribute (and make it part of the domain, unless it touches the outside of the hull). A seed
+//! on a segment or at a vertex between two components is an error: it names neither.
 
 use crate::error::RecoveryError;
 use crate::plc::Plc2;
 use delmesh_delaunay_core::{CellId, ConstrainedTriangulation2, Location};
+use delmesh_predicates::{orient2d, Sign};
 use std::collections::VecDeque;
 
 /// The tag of cells outside the domain (and in holes).
@@ -32,16 +34,47 @@ pub(crate) fn classify(
         |c, i| tri.neighbor_facet(c, i).cell(),
         |c| tri.is_ghost(c),
     );
-    let component_at = |cdt: &mut ConstrainedTriangulation2, p: [f64; 2]| match cdt.locate(p) {
-        Location::Cell(c) => Some(component[c.index()] as usize),
-        Location::Vertex(_) => None,
+    // The component at a seed: that of every cell whose closed triangle holds it. A seed on a
+    // segment, or at a vertex, between two components does not say which one it means.
+    let base = u64::from(plc.first_index);
+    let component_at = |cdt: &mut ConstrainedTriangulation2,
+                        p: [f64; 2],
+                        what: &'static str,
+                        k: usize|
+     -> Result<Option<usize>, RecoveryError> {
+        let at = match cdt.locate(p) {
+            Location::Cell(c) => {
+                let tri = cdt.triangulation();
+                let v = tri.cell(c);
+                let mut at = vec![c];
+                for i in 0..3 {
+                    let (a, b) = (v[(i + 1) % 3], v[(i + 2) % 3]);
+                    if !tri.is_ghost(c) && orient2d(tri.vertex(a), tri.vertex(b), p) == Sign::Zero {
+                        at.push(tri.neighbor_facet(c, i).cell());
+                    }
+                }
+                at
+            }
+            Location::Vertex(v) => cdt.triangulation().cells_around_vertex(v),
+        };
+        let first = component[at[0].index()];
+        if at.iter().any(|c| component[c.index()] != first) {
+            return Err(RecoveryError::SeedOnBoundary {
+                what,
+                index: k as u64 + base,
+                point: p,
+            });
+        }
+        Ok(Some(first as usize))
     };
-    let regions: Vec<_> = plc
-        .regions
-        .iter()
-        .map(|r| (component_at(cdt, r.point), r.attribute))
-        .collect();
-    let holes: Vec<_> = plc.holes.iter().map(|&h| component_at(cdt, h)).collect();
+    let mut regions = Vec::with_capacity(plc.regions.len());
+    for (k, r) in plc.regions.iter().enumerate() {
+        regions.push((component_at(cdt, r.point, "region", k)?, r.attribute));
+    }
+    let mut holes = Vec::with_capacity(plc.holes.len());
+    for (k, &h) in plc.holes.iter().enumerate() {
+        holes.push(component_at(cdt, h, "hole", k)?);
+    }
     let tri = cdt.triangulation();
     let (tags, attributes) = domain_tags(&cells, &component, &depth, &regions, &holes, |c| {
         tri.is_ghost(c)

@@ -48,6 +48,22 @@ pub enum RecoveryError {
         /// Its number.
         index: u64,
     },
+    /// A hole or region seed lies on a segment (or at a vertex) between two parts of the domain,
+    /// so it does not say which part it means.
+    #[error(
+        "{what} {index} at ({}, {}) lies on a segment between two parts of the domain; move it \
+         inside the part it is meant for",
+        point[0],
+        point[1]
+    )]
+    SeedOnBoundary {
+        /// "hole" or "region".
+        what: &'static str,
+        /// Its number.
+        index: u64,
+        /// Its coordinates.
+        point: [f64; 2],
+    },
     /// The points cannot be triangulated (too few, all collinear, bad range).
     #[error(transparent)]
     Triangulation(#[from] TriangulationError),

@@ -265,12 +265,18 @@ impl BoundaryRecovery {
                     .count();
                 history.passes.push(pass);
                 // A vertex found inside a segment splits it there (as the input checks do for
-                // the other methods).
+                // the other methods); pieces that overlapping collinear segments share are
+                // kept once.
                 let mut work: Vec<Sub> = std::mem::take(&mut state.subs);
                 work.reverse();
+                let mut present = std::collections::HashSet::new();
                 while let Some(s) = work.pop() {
                     match cdt.insert_segment(s.a, s.b) {
-                        Ok(()) => state.subs.push(s),
+                        Ok(()) => {
+                            if present.insert((s.a.min(s.b), s.a.max(s.b))) {
+                                state.subs.push(s);
+                            }
+                        }
                         Err(ConstraintError::VertexOnSegment { vertex, .. }) => {
                             work.push(Sub { a: vertex, ..s });
                             work.push(Sub { b: vertex, ..s });
@@ -588,6 +594,10 @@ impl State<'_> {
 /// The apex of the circle through `a b` whose centre is at signed distance `t` from the
 /// mid-point `m` along `n`, with `t` as close to the equilateral triangle's as the points in
 /// `grid` allow (none may be inside the circle); `None` if no such circle exists.
+///
+/// Distances are in units of `len`, so no square overflows or underflows at any coordinate
+/// scale the triangulation accepts; the buckets scanned are at most the grid's occupied ones,
+/// so a segment much longer than the mean (a far field) costs no more than the point count.
 #[allow(clippy::too_many_arguments)]
 fn empty_circle(
     grid: &HashMap<(i64, i64), Vec<[f64; 2]>>,
@@ -599,32 +609,45 @@ fn empty_circle(
     n: [f64; 2],
     len: f64,
 ) -> Option<[f64; 2]> {
-    let target = len / (2.0 * 3f64.sqrt());
-    let (mut lo, mut hi) = (-len, target);
-    let reach = (len * len / 4.0 + len * len).sqrt();
+    let target = 1.0 / (2.0 * 3f64.sqrt());
+    let (mut lo, mut hi) = (-1.0f64, target);
+    let reach = len * 1.25f64.sqrt();
     let (k0, k1) = (
         key([m[0] - reach, m[1] - reach]),
         key([m[0] + reach, m[1] + reach]),
     );
     let _ = cell;
-    for i in k0.0..=k1.0 {
-        for j in k0.1..=k1.1 {
-            let Some(bucket) = grid.get(&(i, j)) else {
-                continue;
-            };
-            for &x in bucket {
-                if x == a || x == b {
-                    continue;
-                }
-                let d = [x[0] - m[0], x[1] - m[1]];
-                let s = d[0] * n[0] + d[1] * n[1];
-                let w = d[0] * d[0] + d[1] * d[1] - len * len / 4.0;
-                if s > 0.0 {
-                    hi = hi.min(w / (2.0 * s));
-                } else if s < 0.0 {
-                    lo = lo.max(w / (2.0 * s));
-                } else if w <= 0.0 {
-                    return None;
+    let mut consider = |x: [f64; 2]| {
+        if x == a || x == b {
+            return true;
+        }
+        let d = [(x[0] - m[0]) / len, (x[1] - m[1]) / len];
+        let s = d[0] * n[0] + d[1] * n[1];
+        let w = d[0] * d[0] + d[1] * d[1] - 0.25;
+        if s > 0.0 {
+            hi = hi.min(w / (2.0 * s));
+        } else if s < 0.0 {
+            lo = lo.max(w / (2.0 * s));
+        } else if w <= 0.0 {
+            return false;
+        }
+        true
+    };
+    let span = |i: i64, j: i64| (j as f64 - i as f64 + 1.0).max(0.0);
+    if span(k0.0, k1.0) * span(k0.1, k1.1) > grid.len() as f64 {
+        let inside = |k: &(i64, i64)| (k0.0..=k1.0).contains(&k.0) && (k0.1..=k1.1).contains(&k.1);
+        for (_, bucket) in grid.iter().filter(|(k, _)| inside(k)) {
+            if !bucket.iter().all(|&x| consider(x)) {
+                return None;
+            }
+        }
+    } else {
+        for i in k0.0..=k1.0 {
+            for j in k0.1..=k1.1 {
+                if let Some(bucket) = grid.get(&(i, j)) {
+                    if !bucket.iter().all(|&x| consider(x)) {
+                        return None;
+                    }
                 }
             }
         }
@@ -638,6 +661,6 @@ fn empty_circle(
     } else {
         hi - 0.1 * (hi - lo)
     };
-    let h = t + (len * len / 4.0 + t * t).sqrt();
+    let h = len * (t + (0.25 + t * t).sqrt());
     Some([m[0] + h * n[0], m[1] + h * n[1]])
 }

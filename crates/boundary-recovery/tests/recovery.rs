@@ -338,6 +338,107 @@ fn regions_get_their_attributes_and_a_wake_line_is_kept() {
     }
 }
 
+#[test]
+fn a_priori_works_at_coordinates_near_1e300() {
+    // Squared lengths overflowed: the empty-circle search scanned i64::MIN..=i64::MAX buckets.
+    for scale in [1e300, 1e-300] {
+        let loops = vec![
+            square([0.0, 0.0], 2.0 * scale, true),
+            square([0.5 * scale, 0.0], 0.5 * scale, false),
+        ];
+        let plc = plc_of(&loops);
+        let mesh = BoundaryRecovery::new(RecoveryMethod::APriori)
+            .run(&plc)
+            .unwrap();
+        mesh.cdt.validate().unwrap();
+        assert!(mesh.history.a_priori_points > 0);
+        let exact = 15.0 * scale * scale;
+        if exact.is_normal() {
+            assert!((mesh.area() - exact).abs() <= 1e-12 * exact);
+        }
+    }
+}
+
+#[test]
+fn overlapping_collinear_segments_share_their_pieces() {
+    // Inside a square, 1-3 and 2-3.5 overlap on 2-3, and 1.5-2.5 lies inside 1-3: splitting at
+    // the points inside gave the pieces twice (a-priori recovery then failed on the copy).
+    let loops = vec![square([2.0, 2.0], 2.0, true)];
+    let mut plc = plc_of(&loops);
+    plc.points.extend([
+        [1.0, 2.0],
+        [3.0, 2.0],
+        [2.0, 2.0],
+        [3.5, 2.0],
+        [1.5, 2.0],
+        [2.5, 2.0],
+    ]);
+    for (a, b) in [(4, 5), (6, 7), (8, 9)] {
+        plc.segments.push(Segment { a, b, marker: 2 });
+    }
+    for method in METHODS {
+        let mesh = BoundaryRecovery::new(method).run(&plc).unwrap();
+        mesh.cdt.validate().unwrap();
+        assert!((mesh.area() - 16.0).abs() < 1e-12, "{method:?}");
+        let mut edges: Vec<_> = mesh
+            .edges
+            .iter()
+            .map(|e| (e.a.min(e.b), e.a.max(e.b)))
+            .collect();
+        let n = edges.len();
+        edges.sort();
+        edges.dedup();
+        assert_eq!(edges.len(), n, "{method:?}: a boundary edge twice");
+        // 4 sides, and 1 - 1.5 - 2 - 2.5 - 3 - 3.5 on the line.
+        assert_eq!(n, 9, "{method:?}");
+    }
+}
+
+#[test]
+fn a_seed_on_a_segment_between_two_parts_is_an_error() {
+    let loops = vec![
+        square([0.0, 0.0], 2.0, true),
+        square([0.0, 0.0], 1.0, false),
+    ];
+    let mut plc = plc_of(&loops);
+    plc.first_index = 1;
+    // On the hole's bottom side (which side is meant depended on the method), then at its corner.
+    for seed in [[0.0, -1.0], [1.0, 1.0]] {
+        plc.holes = vec![[0.0, 0.0], seed];
+        for method in METHODS {
+            assert_eq!(
+                BoundaryRecovery::new(method).run(&plc).unwrap_err(),
+                RecoveryError::SeedOnBoundary {
+                    what: "hole",
+                    index: 2,
+                    point: seed,
+                },
+                "{method:?}"
+            );
+        }
+    }
+    // A seed on an open line or at a vertex inside one part is fine: it was ignored at a vertex.
+    plc.holes.clear();
+    plc.points.extend([[1.5, -0.5], [1.5, 0.5], [-1.5, 0.0]]);
+    plc.segments.push(Segment {
+        a: 8,
+        b: 9,
+        marker: 3,
+    });
+    for seed in [[1.5, 0.0], [-1.5, 0.0]] {
+        plc.regions = vec![RegionSeed {
+            point: seed,
+            attribute: 4.0,
+            max_area: None,
+        }];
+        for method in METHODS {
+            let mesh = BoundaryRecovery::new(method).run(&plc).unwrap();
+            let a = mesh.to_arrays();
+            assert!(a.regions.iter().all(|&r| r == 4.0), "{method:?} {seed:?}");
+        }
+    }
+}
+
 /// A star-shaped loop around `c` with `n` random radii in `[r0, r1]`.
 fn star(rng: &mut StdRng, c: [f64; 2], n: usize, r0: f64, r1: f64, ccw: bool) -> Vec<[f64; 2]> {
     let mut l: Vec<[f64; 2]> = (0..n)
