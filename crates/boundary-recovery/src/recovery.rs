@@ -21,7 +21,8 @@ use crate::classify::{classify, OUTSIDE};
 use crate::error::RecoveryError;
 use crate::plc::Plc2;
 use delmesh_delaunay_core::{
-    ConstrainedTriangulation2, ConstraintError, Insertion, Triangulation2, VertexId,
+    insertion_order, ConstrainedTriangulation2, ConstraintError, Insertion, Triangulation2,
+    VertexId, D2,
 };
 use std::collections::HashMap;
 use std::fmt;
@@ -243,7 +244,11 @@ impl BoundaryRecovery {
                 let placed = a_priori_points(&mut cdt, &state, &mut history);
                 state.tri = cdt.into_triangulation();
                 let before = state.pass(0);
-                for p in placed {
+                // In a spatially sorted, randomised order: in boundary order, each point
+                // next to a finely divided circle would rebuild the cells across it.
+                let at: Vec<[f64; 2]> = placed.iter().map(|p| p.point).collect();
+                for i in insertion_order::<D2>(&at) {
+                    let p = &placed[i as usize];
                     state.add_vertex(p.point, p.spacing)?;
                 }
                 let mut pass = before;

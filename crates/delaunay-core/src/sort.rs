@@ -211,6 +211,11 @@ pub(crate) const PARALLEL_MIN: usize = 8192;
 /// (about `FIRST_ROUND` points). One sort by `(round, Hilbert key)` then gives the order, with
 /// the points read sequentially.
 pub(crate) fn brio_order<D: Dim>(points: &[D::Point]) -> Vec<u32> {
+    brio_order_from::<D>(points, FIRST_ROUND)
+}
+
+/// [`brio_order`] with a first round of at least `first_round` points.
+pub(crate) fn brio_order_from<D: Dim>(points: &[D::Point], first_round: usize) -> Vec<u32> {
     let n = points.len();
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
@@ -225,7 +230,7 @@ pub(crate) fn brio_order<D: Dim>(points: &[D::Point]) -> Vec<u32> {
     let cells = f64::from((1u32 << HILBERT_BITS) - 1);
     let scale = if extent > 0.0 { cells / extent } else { 0.0 };
     let mut rounds = 0u32;
-    while n >> (3 * (rounds + 1)) >= FIRST_ROUND {
+    while n >> (3 * (rounds + 1)) >= first_round {
         rounds += 1;
     }
     let key = |(i, p): (usize, &D::Point)| {
