@@ -97,6 +97,8 @@ pub struct RecoveryHistory3 {
     /// Input points that repeat an earlier one exactly, merged into it: (duplicate, first),
     /// in the input's numbering.
     pub merged_points: Vec<(u64, u64)>,
+    /// Input triangles reversed to orient their closed surface consistently.
+    pub reoriented_triangles: usize,
     /// Surface triangles of the input.
     pub surface_faces: usize,
     /// Edges of the input surface.
@@ -158,6 +160,9 @@ impl fmt::Display for RecoveryHistory3 {
             writeln!(f, "    {}", merged_list(&self.merged_points))?;
         }
         row(f, "No. of surface faces:", self.surface_faces)?;
+        if self.reoriented_triangles > 0 {
+            row(f, "  reoriented:", self.reoriented_triangles)?;
+        }
         row(f, "No. of surface edges:", self.surface_edges)?;
         if self.method == RecoveryMethod3::APriori {
             row(f, "No. of a-priori points:", self.a_priori_points)?;
@@ -402,8 +407,9 @@ impl BoundaryRecovery3 {
         self
     }
 
-    /// Checks the surface ([`check_surface`]: closed, manifold, consistently oriented, free of
-    /// self-intersections), recovers it and classifies the exterior.
+    /// Checks the surface ([`check_surface`]: closed, manifold, orientable (triangles are
+    /// reoriented where needed), free of self-intersections), recovers it and classifies the
+    /// exterior.
     ///
     /// # Errors
     /// A surface that fails the checks (naming the facets), a surface that could not be
@@ -520,6 +526,7 @@ impl BoundaryRecovery3 {
                     .map(|&(d, first)| (u64::from(d) + base, u64::from(first) + base))
                     .collect()
             }),
+            reoriented_triangles: checked.as_ref().map_or(0, |c| c.reoriented.len()),
             ..Default::default()
         };
         state.recover(&mut history)?;
@@ -638,9 +645,11 @@ fn is_tetrahedron(
 
 /// The side of the domain of each surface triangle, by the nesting of the closed surfaces:
 /// just inside a surface at even depth (the far field, a hollow body's cavity wall) is domain,
-/// just inside one at odd depth (a body) is not. +1 is along the triangle's normal.
+/// just inside one at odd depth (a body) is not. +1 is along the input triangle's normal
+/// (reversed for the triangles the check reoriented).
 fn domain_sides(c: &CheckedSurface) -> Vec<f64> {
-    c.triangle_component
+    let mut sides: Vec<f64> = c
+        .triangle_component
         .iter()
         .map(|&k| {
             let comp = &c.components[k as usize];
@@ -651,7 +660,11 @@ fn domain_sides(c: &CheckedSurface) -> Vec<f64> {
                 -inside
             }
         })
-        .collect()
+        .collect();
+    for &t in &c.reoriented {
+        sides[t as usize] = -sides[t as usize];
+    }
+    sides
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {

@@ -266,15 +266,17 @@ fn non_manifold_edge_names_all_its_facets() {
 }
 
 #[test]
-fn flipped_triangle_is_named_with_its_neighbours() {
+fn flipped_triangles_are_reoriented() {
+    // One triangle against three: it is reversed, and the tetrahedron is as if given right.
     let mut tris = TETRA.to_vec();
     tris[3] = [1, 3, 2];
-    assert_eq!(
-        message(&Plc3::from_triangles(TETRA_POINTS.to_vec(), &tris)),
-        "inconsistent orientation: both triangles traverse each of these edges in the same \
-         direction (flip one of them): edge 2-1 (facets 0, 3); edge 1-3 (facets 1, 3); \
-         edge 3-2 (facets 2, 3)"
-    );
+    let s = ok(&Plc3::from_triangles(TETRA_POINTS.to_vec(), &tris));
+    let right = ok(&Plc3::from_triangles(TETRA_POINTS.to_vec(), &TETRA));
+    assert_eq!(s.reoriented, vec![3]);
+    assert_eq!(s.triangles[3].v, [1, 2, 3]);
+    assert_eq!(s.edges, right.edges);
+    assert_eq!(s.components, right.components);
+    assert!(right.reoriented.is_empty());
 }
 
 #[test]

@@ -78,8 +78,8 @@ pub(crate) fn scaled_points(points: &[P], base: u64) -> Result<(f64, Vec<P>), Su
     Ok((scale, scaled))
 }
 
-/// Checks that `plc` is a set of closed, consistently oriented, non-intersecting triangle
-/// surfaces, and finds their edges, volumes and nesting.
+/// Checks that `plc` is a set of closed, orientable, non-intersecting triangle surfaces,
+/// orients each consistently, and finds their edges, volumes and nesting.
 ///
 /// What it does, in order (the first stage that finds offenders reports all of
 /// its own; see [`SurfaceError`] for the messages):
@@ -95,9 +95,12 @@ pub(crate) fn scaled_points(points: &[P], base: u64) -> Result<(f64, Vec<P>), Su
 ///    which changes the domain. Silently dropping them could hide either, and exporters that
 ///    write a triangle twice are rare enough that saying so is better;
 /// 5. every edge is used by exactly two triangles (non-manifold edges and open boundaries are
-///    errors listing the edges and their facets) that traverse it in opposite directions
-///    (inconsistent orientation names the edge and both facets). The orientation of each closed
-///    surface as a whole is free;
+///    errors listing the edges and their facets) that traverse it in opposite directions.
+///    Where two traverse it the same way, triangles are reversed (the fewer of each closed
+///    surface, listed in [`CheckedSurface::reoriented`]) until none do: CAD meshers orient
+///    each patch by its own parametrisation (gmsh does), and the orientation carries nothing
+///    the surface needs, since that of each closed surface as a whole is free. Only a
+///    one-sided surface cannot be so oriented (an error naming the edges, as given);
 /// 6. the triangles around each point form a single fan: two sheets touching at a point are an
 ///    error (found with a union–find over triangle corners across edges);
 /// 7. no point lies on a triangle it is not a corner of, and no two triangles intersect other
@@ -201,7 +204,7 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
             points: t.v.map(|v| u64::from(v) + base),
         }
     };
-    let tv: Vec<[u32; 3]> = plc
+    let mut tv: Vec<[u32; 3]> = plc
         .triangles
         .iter()
         .map(|t| t.v.map(|v| vertex_of_input[v as usize]))
@@ -264,29 +267,6 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
         });
     }
 
-    // Edges: the directed uses `(other end, triangle, lo → hi?)` of each undirected edge,
-    // bucketed by its lower end (a counting sort), then sorted within each bucket.
-    let nv = points.len();
-    let mut start = vec![0u32; nv + 1];
-    for t in &tv {
-        for i in 0..3 {
-            start[t[i].min(t[(i + 1) % 3]) as usize + 1] += 1;
-        }
-    }
-    for v in 0..nv {
-        start[v + 1] += start[v];
-    }
-    let mut uses = vec![(0u32, 0u32, false); 3 * tv.len()];
-    let mut fill = start.clone();
-    for (k, t) in tv.iter().enumerate() {
-        for i in 0..3 {
-            let (u, w) = (t[i], t[(i + 1) % 3]);
-            let lo = u.min(w) as usize;
-            uses[fill[lo] as usize] = (u.max(w), k as u32, u < w);
-            fill[lo] += 1;
-        }
-    }
-    drop(fill);
     let facet_of = |t: u32| u64::from(plc.triangles[t as usize].facet) + base;
     let edge_name = |lo: u32, group: &[(u32, u32, bool)]| {
         let hi = group[0].0;
@@ -296,52 +276,76 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
             facets: group.iter().map(|g| facet_of(g.1)).collect(),
         }
     };
-    let (mut open, mut non_manifold, mut flipped) = (Vec::new(), Vec::new(), Vec::new());
-    let mut edges = Vec::with_capacity(uses.len() / 2);
-    for lo in 0..nv {
-        let around = &mut uses[start[lo] as usize..start[lo + 1] as usize];
-        around.sort_unstable_by_key(|x| (x.0, x.1));
-        let lo = lo as u32;
-        for group in around.chunk_by(|x, y| x.0 == y.0) {
-            match group.len() {
-                1 => open.push((group[0].1, edge_name(lo, group))),
-                2 if group[0].2 == group[1].2 => {
-                    flipped.push((group[0].1, edge_name(lo, group)));
-                }
-                2 => {
-                    let (fwd, back) = if group[0].2 {
-                        (group[0].1, group[1].1)
-                    } else {
-                        (group[1].1, group[0].1)
-                    };
-                    edges.push(SurfaceEdge {
-                        v: [lo, group[0].0],
-                        triangles: [fwd, back],
-                    });
-                }
-                _ => non_manifold.push((group[0].1, edge_name(lo, group))),
-            }
-        }
-    }
     let listed = |mut v: Vec<(u32, EdgeName)>| {
         v.sort_by_key(|x| x.0);
         Listed::of(v.into_iter().map(|x| x.1).collect())
     };
-    if !non_manifold.is_empty() {
-        return Err(SurfaceError::NonManifoldEdges {
-            edges: listed(non_manifold),
-        });
-    }
-    if !open.is_empty() {
-        return Err(SurfaceError::OpenEdges {
-            edges: listed(open),
-        });
-    }
-    if !flipped.is_empty() {
-        return Err(SurfaceError::InconsistentOrientation {
-            edges: listed(flipped),
-        });
-    }
+    // A second pass runs after triangles were reoriented.
+    let mut reoriented: Option<Vec<u32>> = None;
+    let nv = points.len();
+    let edges = loop {
+        let (start, mut uses) = edge_uses(&tv, nv);
+        let (mut open, mut non_manifold, mut flipped) = (Vec::new(), Vec::new(), Vec::new());
+        // The triangles on each side of each manifold edge, and whether both traverse it the
+        // same way.
+        let mut pairs = Vec::with_capacity(uses.len() / 2);
+        let mut edges = Vec::with_capacity(uses.len() / 2);
+        for lo in 0..nv {
+            let around = &mut uses[start[lo] as usize..start[lo + 1] as usize];
+            around.sort_unstable_by_key(|x| (x.0, x.1));
+            let lo = lo as u32;
+            for group in around.chunk_by(|x, y| x.0 == y.0) {
+                match group.len() {
+                    1 => open.push((group[0].1, edge_name(lo, group))),
+                    2 => {
+                        let same = group[0].2 == group[1].2;
+                        pairs.push((group[0].1, group[1].1, same));
+                        if same {
+                            flipped.push((group[0].1, edge_name(lo, group)));
+                        } else {
+                            let (fwd, back) = if group[0].2 {
+                                (group[0].1, group[1].1)
+                            } else {
+                                (group[1].1, group[0].1)
+                            };
+                            edges.push(SurfaceEdge {
+                                v: [lo, group[0].0],
+                                triangles: [fwd, back],
+                            });
+                        }
+                    }
+                    _ => non_manifold.push((group[0].1, edge_name(lo, group))),
+                }
+            }
+        }
+        if !non_manifold.is_empty() {
+            return Err(SurfaceError::NonManifoldEdges {
+                edges: listed(non_manifold),
+            });
+        }
+        if !open.is_empty() {
+            return Err(SurfaceError::OpenEdges {
+                edges: listed(open),
+            });
+        }
+        if flipped.is_empty() {
+            break edges;
+        }
+        match (&reoriented, orientation_flips(tv.len(), &pairs)) {
+            (None, Some(flips)) => {
+                for &t in &flips {
+                    tv[t as usize].swap(1, 2);
+                }
+                reoriented = Some(flips);
+            }
+            _ => {
+                return Err(SurfaceError::InconsistentOrientation {
+                    edges: listed(flipped),
+                })
+            }
+        }
+    };
+    let reoriented = reoriented.unwrap_or_default();
 
     // Fans around each vertex: corners `3t + i` joined across the edges at their vertex; and
     // components: triangles joined across edges.
@@ -502,6 +506,7 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
         input_index,
         vertex_of_input,
         merged,
+        reoriented,
         triangles,
         edges,
         triangle_component,
@@ -512,4 +517,161 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
         corners: tv,
         boxes,
     })
+}
+
+/// The directed uses `(other end, triangle, lo → hi?)` of each undirected edge of the
+/// triangles, bucketed by its lower end (a counting sort): the uses of the edges at `lo` are
+/// `uses[start[lo]..start[lo + 1]]`.
+fn edge_uses(tv: &[[u32; 3]], nv: usize) -> (Vec<u32>, Vec<(u32, u32, bool)>) {
+    let mut start = vec![0u32; nv + 1];
+    for t in tv {
+        for i in 0..3 {
+            start[t[i].min(t[(i + 1) % 3]) as usize + 1] += 1;
+        }
+    }
+    for v in 0..nv {
+        start[v + 1] += start[v];
+    }
+    let mut uses = vec![(0u32, 0u32, false); 3 * tv.len()];
+    let mut fill = start.clone();
+    for (k, t) in tv.iter().enumerate() {
+        for i in 0..3 {
+            let (u, w) = (t[i], t[(i + 1) % 3]);
+            let lo = u.min(w) as usize;
+            uses[fill[lo] as usize] = (u.max(w), k as u32, u < w);
+            fill[lo] += 1;
+        }
+    }
+    (start, uses)
+}
+
+/// The triangles to reverse so that every closed surface is consistently oriented, given the
+/// pairs of triangles across each edge `(t1, t2, both traverse it the same way?)`; in each
+/// component the fewer triangles are reversed (on a tie, those not oriented as its first).
+/// `None` if a component is one-sided (no flips make it consistent). Sorted.
+fn orientation_flips(n: usize, pairs: &[(u32, u32, bool)]) -> Option<Vec<u32>> {
+    let mut start = vec![0usize; n + 1];
+    for &(a, b, _) in pairs {
+        start[a as usize + 1] += 1;
+        start[b as usize + 1] += 1;
+    }
+    for t in 0..n {
+        start[t + 1] += start[t];
+    }
+    let mut next = vec![(0u32, false); start[n]];
+    let mut fill = start.clone();
+    for &(a, b, same) in pairs {
+        next[fill[a as usize]] = (b, same);
+        fill[a as usize] += 1;
+        next[fill[b as usize]] = (a, same);
+        fill[b as usize] += 1;
+    }
+    // Whether each triangle is reversed relative to the first of its component.
+    let mut reversed: Vec<Option<bool>> = vec![None; n];
+    let mut flips = Vec::new();
+    for seed in 0..n {
+        if reversed[seed].is_some() {
+            continue;
+        }
+        reversed[seed] = Some(false);
+        let mut component = vec![seed as u32];
+        let mut k = 0;
+        while k < component.len() {
+            let t = component[k] as usize;
+            let r = reversed[t] == Some(true);
+            for &(u, same) in &next[start[t]..start[t + 1]] {
+                // Across an edge traversed the same way, exactly one of the two is reversed.
+                let want = r != same;
+                match reversed[u as usize] {
+                    None => {
+                        reversed[u as usize] = Some(want);
+                        component.push(u);
+                    }
+                    Some(got) if got != want => return None,
+                    Some(_) => {}
+                }
+            }
+            k += 1;
+        }
+        let n_reversed = component
+            .iter()
+            .filter(|&&t| reversed[t as usize] == Some(true))
+            .count();
+        let flip = n_reversed <= component.len() - n_reversed;
+        flips.extend(
+            component
+                .into_iter()
+                .filter(|&t| (reversed[t as usize] == Some(true)) == flip),
+        );
+    }
+    flips.sort_unstable();
+    Some(flips)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_fewer_triangles_of_each_component_are_reversed() {
+        // Component {0, 1, 2}: 1 is reversed relative to 0 and 2. Component {3, 4}: a tie,
+        // so 4 (not oriented as 3) is reversed.
+        let pairs = [(0, 1, true), (1, 2, true), (0, 2, false), (3, 4, true)];
+        assert_eq!(orientation_flips(5, &pairs), Some(vec![1, 4]));
+        // Two against one: the one goes, even when it comes first.
+        let pairs = [(0, 1, true), (0, 2, true), (1, 2, false)];
+        assert_eq!(orientation_flips(3, &pairs), Some(vec![0]));
+    }
+
+    #[test]
+    fn a_one_sided_cycle_cannot_be_oriented() {
+        // Around a cycle of three triangles, an odd number of edges traversed the same way.
+        let pairs = [(0, 1, true), (1, 2, false), (2, 0, false)];
+        assert_eq!(orientation_flips(3, &pairs), None);
+    }
+
+    /// The unit cube, 12 triangles oriented outward.
+    fn cube() -> (Vec<P>, Vec<[u32; 3]>) {
+        let p = (0..8)
+            .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
+            .collect();
+        let t = vec![
+            [0, 2, 1],
+            [1, 2, 3],
+            [4, 5, 6],
+            [5, 7, 6],
+            [0, 1, 4],
+            [1, 5, 4],
+            [2, 6, 3],
+            [3, 6, 7],
+            [0, 4, 2],
+            [2, 4, 6],
+            [1, 3, 5],
+            [3, 7, 5],
+        ];
+        (p, t)
+    }
+
+    #[test]
+    fn patches_oriented_each_their_own_way_are_accepted() {
+        // As gmsh writes an extrusion: the faces z = 0 and x = 0 (triangles 0, 1, 8, 9) keep
+        // the orientation of their own parametrisation, inward.
+        let (p, mut t) = cube();
+        let right = check_surface(&Plc3::from_triangles(p.clone(), &t)).unwrap();
+        for k in [0, 1, 8, 9] {
+            t[k].swap(1, 2);
+        }
+        let s = check_surface(&Plc3::from_triangles(p.clone(), &t)).unwrap();
+        assert_eq!(s.reoriented, vec![0, 1, 8, 9]);
+        assert_eq!(s.edges, right.edges);
+        assert_eq!(s.components, right.components);
+        assert!(s.components[0].outward && s.components[0].volume == 1.0);
+        // Eight of twelve reversed: the other four are, and the cube comes out inward.
+        for t in t.iter_mut() {
+            t.swap(1, 2);
+        }
+        let s = check_surface(&Plc3::from_triangles(p, &t)).unwrap();
+        assert_eq!(s.reoriented, vec![0, 1, 8, 9]);
+        assert!(!s.components[0].outward && s.components[0].volume == -1.0);
+    }
 }

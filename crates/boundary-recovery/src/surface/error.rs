@@ -231,10 +231,12 @@ pub enum SurfaceError {
         /// The edges and their facet.
         edges: Listed<EdgeName>,
     },
-    /// Two triangles sharing an edge traverse it in the same direction.
+    /// A one-sided surface: however its triangles are reversed, two sharing an edge traverse
+    /// it in the same direction (a closed one-sided surface also intersects itself).
     #[error(
-        "inconsistent orientation: both triangles traverse each of these edges in the same \
-         direction (flip one of them): {edges}"
+        "inconsistent orientation: the surface is one-sided, no choice of triangle \
+         orientations makes the two triangles at every edge traverse it in opposite \
+         directions; as given, both traverse each of these edges in the same direction: {edges}"
     )]
     InconsistentOrientation {
         /// The edges (in the direction both traverse them) and their two facets.

@@ -1,5 +1,5 @@
-//! Surface checks for 3D meshing: is a [`Plc3`] a set of closed, consistently oriented,
-//! non-intersecting triangle surfaces, and which of them lie inside which?
+//! Surface checks for 3D meshing: is a [`Plc3`] a set of closed, orientable, non-intersecting
+//! triangle surfaces, and which of them lie inside which?
 //!
 //! 3D boundary recovery needs every surface triangle to end up as a face of the tetrahedral
 //! mesh, and the flood fill that deletes the exterior needs the surfaces to separate space into
@@ -71,7 +71,8 @@ pub enum PointLocation {
     },
 }
 
-/// A surface that passed [`check_surface`]: closed, consistently oriented, manifold and free of
+/// A surface that passed [`check_surface`]: closed, consistently oriented (triangles reversed
+/// where needed), manifold and free of
 /// self-intersections; with its edges, closed components, volumes and nesting.
 #[derive(Clone, Debug)]
 pub struct CheckedSurface {
@@ -83,7 +84,11 @@ pub struct CheckedSurface {
     pub vertex_of_input: Vec<u32>,
     /// Merged duplicates: `(duplicate, first occurrence)` input indices (0-based), sorted.
     pub merged: Vec<(u32, u32)>,
-    /// The triangles, in input order, with corners indexing [`CheckedSurface::points`].
+    /// Triangles whose corners were reversed to orient their closed surface consistently
+    /// (indices into [`CheckedSurface::triangles`]), sorted.
+    pub reoriented: Vec<u32>,
+    /// The triangles, in input order, with corners indexing [`CheckedSurface::points`]
+    /// (reversed for those in [`CheckedSurface::reoriented`]).
     pub triangles: Vec<SurfaceTriangle>,
     /// Every edge once, sorted by its end points.
     pub edges: Vec<SurfaceEdge>,
