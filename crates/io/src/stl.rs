@@ -16,7 +16,9 @@
 //! - Binary: an 80-byte header, a little-endian `u32` triangle count, then 50 bytes per
 //!   triangle (normal and three corners as `f32`, a `u16` attribute that is ignored). All
 //!   triangles get marker 0; since the file has no lines, a facet's `line` is its 1-based
-//!   triangle number and errors give the byte offset.
+//!   triangle number and errors give the byte offset. Several binary solids may follow each
+//!   other (gmsh writes one per surface so): when the blocks' headers and counts add up to the
+//!   file's size exactly, the triangles of the k-th block get marker k, as in ASCII files.
 //!
 //! Which kind a file is: the file is binary when its size is exactly `84 + 50 × count`, unless it
 //! is plain text (no NUL byte) starting with `solid` (a real binary file has NUL bytes in the
@@ -44,12 +46,12 @@ pub fn parse_stl(bytes: &[u8], file: &Path) -> Result<SurfaceFile, IoError> {
             bytes[80], bytes[81], bytes[82], bytes[83],
         ]))
     });
-    let size_fits = declared.is_some_and(|n| 84 + 50 * n == bytes.len() as u64);
+    let blocks = binary_blocks(bytes);
     let text_like = starts_with_solid(bytes) && !bytes.contains(&0);
     if text_like {
         parse_ascii(&String::from_utf8_lossy(bytes), file)
-    } else if size_fits {
-        parse_binary(bytes, file)
+    } else if let Some(blocks) = blocks {
+        parse_binary(bytes, &blocks, file)
     } else {
         match declared {
             None => Err(IoError::binary(
@@ -73,6 +75,24 @@ pub fn parse_stl(bytes: &[u8], file: &Path) -> Result<SurfaceFile, IoError> {
             )),
         }
     }
+}
+
+/// The binary solids the file is made of, as (offset of the block's header, triangle count),
+/// when their headers and counts cover the file exactly (one block for an ordinary file).
+fn binary_blocks(bytes: &[u8]) -> Option<Vec<(usize, usize)>> {
+    let mut blocks = Vec::new();
+    let mut at = 0usize;
+    while at < bytes.len() {
+        let count = bytes.get(at + 80..at + 84)?;
+        let n = u32::from_le_bytes([count[0], count[1], count[2], count[3]]) as usize;
+        let end = (at + 84).checked_add(n.checked_mul(50)?)?;
+        if end > bytes.len() {
+            return None;
+        }
+        blocks.push((at, n));
+        at = end;
+    }
+    (!blocks.is_empty()).then_some(blocks)
 }
 
 /// Whether the bytes start (after white space) with the keyword `solid`.
@@ -106,11 +126,25 @@ impl PointMerger {
     }
 }
 
-fn parse_binary(bytes: &[u8], file: &Path) -> Result<SurfaceFile, IoError> {
-    let n = (bytes.len() - 84) / 50;
+/// The triangles of the binary `blocks` (see [`binary_blocks`]): marker 0 for a single block,
+/// else the block's 1-based number.
+fn parse_binary(
+    bytes: &[u8],
+    blocks: &[(usize, usize)],
+    file: &Path,
+) -> Result<SurfaceFile, IoError> {
+    let n = blocks.iter().map(|b| b.1).sum();
     let mut merger = PointMerger::default();
     let mut facets = Vec::with_capacity(n);
-    for (k, rec) in bytes[84..].chunks_exact(50).enumerate() {
+    let records = blocks.iter().enumerate().flat_map(|(b, &(at, count))| {
+        let marker = if blocks.len() > 1 { b as i32 + 1 } else { 0 };
+        let start = at + 84;
+        bytes[start..start + 50 * count]
+            .chunks_exact(50)
+            .enumerate()
+            .map(move |(i, rec)| (marker, start + 50 * i, rec))
+    });
+    for (k, (marker, offset, rec)) in records.enumerate() {
         let f32_at = |i: usize| {
             f64::from(f32::from_le_bytes([
                 rec[i],
@@ -126,7 +160,7 @@ fn parse_binary(bytes: &[u8], file: &Path) -> Result<SurfaceFile, IoError> {
             if p.iter().any(|c| !c.is_finite()) {
                 return Err(IoError::binary(
                     file,
-                    (84 + 50 * k + at) as u64,
+                    (offset + at) as u64,
                     format!(
                         "triangle {}: corner {} has a non-finite coordinate {p:?}",
                         k + 1,
@@ -139,7 +173,7 @@ fn parse_binary(bytes: &[u8], file: &Path) -> Result<SurfaceFile, IoError> {
         facets.push(SurfaceFacet {
             polygons: vec![tri.to_vec()],
             holes: Vec::new(),
-            marker: 0,
+            marker,
             line: k + 1,
         });
     }

@@ -38,6 +38,15 @@ fn parse_error(r: Result<SurfaceFile, IoError>) -> (usize, String) {
     }
 }
 
+fn binary_error(r: Result<SurfaceFile, IoError>) -> (u64, String) {
+    match r {
+        Err(IoError::Binary {
+            offset, message, ..
+        }) => (offset, message),
+        other => panic!("expected a binary-file error, got {other:?}"),
+    }
+}
+
 // ---------------------------------------------------------------------------------- OFF
 
 const TETRA_OFF: &str = "\
@@ -304,6 +313,38 @@ fn ascii_stl_merges_points_and_numbers_solids() {
             "expected {line}: {message}\n     got {l}: {m}"
         );
     }
+}
+
+#[test]
+fn binary_stl_solids_one_after_another() {
+    // gmsh's `Mesh.StlOneSolidPerSurface` with `Mesh.Binary`: complete binary files in a row.
+    let first = [
+        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        [[1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+    ];
+    let second = [[[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]];
+    let mut bytes = binary_stl(b"solid surface 1", &first);
+    bytes.extend(binary_stl(b"solid surface 2", &second));
+    let s = parse_stl(&bytes, Path::new("b.stl")).unwrap();
+    assert_eq!(s.points.len(), 5);
+    assert_eq!(polygons(&s), [vec![0, 1, 2], vec![1, 3, 2], vec![0, 2, 4]]);
+    assert_eq!(markers(&s), [1, 1, 2]);
+    assert_eq!(
+        s.facets.iter().map(|f| f.line).collect::<Vec<_>>(),
+        [1, 2, 3]
+    );
+    // A bad corner in the second block is reported at its byte offset in the file.
+    let mut bad = bytes.clone();
+    let at = 2 * 84 + 3 * 50 - 50 + 12;
+    bad[at..at + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+    let (offset, message) = binary_error(parse_stl(&bad, Path::new("b.stl")));
+    assert_eq!(offset, at as u64);
+    assert!(message.contains("triangle 3: corner 1"), "{message}");
+    // One byte too many: the blocks no longer cover the file, the first header is blamed.
+    bytes.push(0);
+    let (offset, message) = binary_error(parse_stl(&bytes, Path::new("b.stl")));
+    assert_eq!(offset, 80);
+    assert!(message.contains("declares 2 triangles"), "{message}");
 }
 
 #[test]
