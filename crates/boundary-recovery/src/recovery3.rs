@@ -889,8 +889,11 @@ impl<'a> State<'a> {
                 return Ok(());
             }
             for (f, t) in missing {
-                self.split_face(f, t)?;
-                history.face_points += 1;
+                if self.split_face(f, t)? {
+                    history.face_points += 1;
+                } else {
+                    history.edge_points += 1;
+                }
             }
         }
     }
@@ -1397,10 +1400,16 @@ impl<'a> State<'a> {
         out
     }
 
-    /// Inserts the centroid of the missing sub-face `t` of facet `f`.
-    fn split_face(&mut self, f: u32, t: [VertexId; 3]) -> Result<(), RecoveryError> {
+    /// Inserts the centroid of the missing sub-face `t` of facet `f` (true), or splits the
+    /// sub-segment of the facet's boundary that `t` encroaches (false): see
+    /// [`State::encroached_subsegment`].
+    fn split_face(&mut self, f: u32, t: [VertexId; 3]) -> Result<bool, RecoveryError> {
         if self.added >= self.budget {
             return Err(self.not_recovered(vec![f]));
+        }
+        if let Some((s, k)) = self.encroached_subsegment(f as usize, t) {
+            self.split_subsegment(s, k)?;
+            return Ok(false);
         }
         let (verts, bary, _) = self.facet_vertices(f as usize);
         let mut b = [0.0; 3];
@@ -1424,7 +1433,50 @@ impl<'a> State<'a> {
         let fac = &mut self.facs[f as usize];
         fac.interior.push((b, v));
         fac.stale = true;
-        Ok(())
+        Ok(true)
+    }
+
+    /// The sub-segment `(segment, position)` of facet `f`'s boundary that is an edge of the
+    /// missing sub-face `t` with the angle opposite it obtuse (`t`'s third corner inside the
+    /// edge's diametral circle), if any. The centroids of such sub-faces would come ever closer
+    /// to that edge (a third of the way each time: a thin slot's wall next to the other wall
+    /// until a centroid rounds onto an existing vertex), so the edge is split instead, which
+    /// moves the sub-faces off it.
+    fn encroached_subsegment(&self, f: usize, t: [VertexId; 3]) -> Option<(usize, usize)> {
+        let (verts, bary, n_boundary) = self.facet_vertices(f);
+        let frame = self.frame(f);
+        let pos = t.map(|v| verts.iter().position(|&u| u == v));
+        for e in 0..3 {
+            let (i, j, o) = (pos[e]?, pos[(e + 1) % 3]?, pos[(e + 2) % 3]?);
+            if i >= n_boundary || j >= n_boundary {
+                continue;
+            }
+            let first = if (i + 1) % n_boundary == j {
+                i
+            } else if (j + 1) % n_boundary == i {
+                j
+            } else {
+                continue;
+            };
+            let [a, b, c] = [i, j, o].map(|k| frame_point(&frame, bary[k]));
+            if (a[0] - c[0]) * (b[0] - c[0]) + (a[1] - c[1]) * (b[1] - c[1]) < 0.0 {
+                return Some(self.subsegment_at(f, first));
+            }
+        }
+        None
+    }
+
+    /// The sub-segment `(segment, position)` from the vertex at position `at` of facet `f`'s
+    /// boundary loop (as [`State::facet_vertices`] lists it) to the next one.
+    fn subsegment_at(&self, f: usize, mut at: usize) -> (usize, usize) {
+        for &(s, reversed) in &self.facs[f].segs {
+            let n = self.segs[s as usize].pts.len();
+            if at < n - 1 {
+                return (s as usize, if reversed { n - 2 - at } else { at });
+            }
+            at -= n - 1;
+        }
+        unreachable!("a position on the facet's boundary loop")
     }
 }
 

@@ -211,3 +211,22 @@ proptest::proptest! {
         check(&plc, &run, chi, true);
     }
 }
+
+#[test]
+fn a_thin_slot_made_by_gmsh_is_recovered() {
+    // Each wall of the 1e-3 slot encroaches the other's sub-faces next to the slot's edges:
+    // centroid insertion alone crept towards those edges until a centroid rounded onto an
+    // existing vertex, so recovery failed.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/slot-gmsh.off");
+    let plc = delmesh::mesh3d::read_plc3(&path).unwrap();
+    let run = mesh_plc3(
+        &plc,
+        &MeshOptions3 {
+            generation: None,
+            ..MeshOptions3::default()
+        },
+    )
+    .unwrap();
+    // The slot goes through the cube: a solid of genus 1.
+    check(&plc, &run, 0, true);
+}
