@@ -156,14 +156,47 @@ impl Partial {
     }
 }
 
+/// Volume ratios of face neighbours: the largest, their sum and how many shared faces.
+#[derive(Clone, Copy)]
+struct Ratios {
+    worst: f64,
+    sum: f64,
+    shared: usize,
+}
+
+impl Ratios {
+    const NONE: Ratios = Ratios {
+        worst: 1.0,
+        sum: 0.0,
+        shared: 0,
+    };
+
+    /// Counts the face shared by tetrahedra of volumes `x` and `y`.
+    fn add(&mut self, x: f64, y: f64) {
+        let (x, y) = (x.abs(), y.abs());
+        let ratio = x.max(y) / x.min(y);
+        self.worst = self.worst.max(ratio);
+        self.sum += ratio;
+        self.shared += 1;
+    }
+
+    fn merge(self, o: Ratios) -> Ratios {
+        Ratios {
+            worst: self.worst.max(o.worst),
+            sum: self.sum + o.sum,
+            shared: self.shared + o.shared,
+        }
+    }
+}
+
 /// As [`neighbour_ratios`], from the neighbour rows: each shared face is visited once, from
 /// its lower-numbered tetrahedron, in parallel over fixed chunks.
-fn ratios_across(neighbours: &[[u32; 4]], volumes: &[f64]) -> (f64, f64, usize) {
-    let runs: Vec<(f64, f64, usize)> = neighbours
+fn ratios_across(neighbours: &[[u32; 4]], volumes: &[f64]) -> Ratios {
+    let runs: Vec<Ratios> = neighbours
         .par_chunks(CHUNK)
         .enumerate()
         .map(|(c, rows)| {
-            let (mut worst, mut sum, mut shared) = (1.0f64, 0.0, 0usize);
+            let mut r = Ratios::NONE;
             for (i, row) in rows.iter().enumerate() {
                 let t = c * CHUNK + i;
                 // Each shared face once, from its lower-numbered side.
@@ -171,28 +204,21 @@ fn ratios_across(neighbours: &[[u32; 4]], volumes: &[f64]) -> (f64, f64, usize) 
                     .iter()
                     .filter(|&&u| (u as usize) > t && (u as usize) < volumes.len())
                 {
-                    let (x, y) = (volumes[t].abs(), volumes[u as usize].abs());
-                    let ratio = x.max(y) / x.min(y);
-                    worst = worst.max(ratio);
-                    sum += ratio;
-                    shared += 1;
+                    r.add(volumes[t], volumes[u as usize]);
                 }
             }
-            (worst, sum, shared)
+            r
         })
         .collect();
-    runs.iter()
-        .fold((1.0f64, 0.0, 0usize), |(w, s, n), &(w2, s2, n2)| {
-            (w.max(w2), s + s2, n + n2)
-        })
+    runs.into_iter().fold(Ratios::NONE, Ratios::merge)
 }
 
-/// The largest and summed volume ratio of face neighbours, and the number of shared faces.
+/// The volume ratios of face neighbours, the shared faces found by sorting.
 ///
 /// Faces are bucketed by their smallest vertex (a counting sort), so each bucket is a few
 /// dozen faces sorted on their own, in parallel over fixed runs of buckets. Tetrahedra naming a
 /// point out of range are left out.
-fn neighbour_ratios(n: usize, tets: &[[u32; 4]], volumes: &[f64]) -> (f64, f64, usize) {
+fn neighbour_ratios(n: usize, tets: &[[u32; 4]], volumes: &[f64]) -> Ratios {
     let faces = |t: [u32; 4]| {
         (0..4).map(move |i| {
             let mut f = [t[(i + 1) % 4], t[(i + 2) % 4], t[(i + 3) % 4]];
@@ -220,10 +246,10 @@ fn neighbour_ratios(n: usize, tets: &[[u32; 4]], volumes: &[f64]) -> (f64, f64, 
             *slot += 1;
         }
     }
-    let runs: Vec<(f64, f64, usize)> = (0..n.div_ceil(CHUNK))
+    let runs: Vec<Ratios> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
         .map(|run| {
-            let (mut worst, mut sum, mut shared) = (1.0f64, 0.0, 0usize);
+            let mut r = Ratios::NONE;
             let mut bucket = Vec::new();
             for v in run * CHUNK..((run + 1) * CHUNK).min(n) {
                 bucket.clear();
@@ -231,24 +257,14 @@ fn neighbour_ratios(n: usize, tets: &[[u32; 4]], volumes: &[f64]) -> (f64, f64, 
                 bucket.sort_unstable();
                 for w in bucket.windows(2) {
                     if w[0].0 == w[1].0 {
-                        let (x, y) = (
-                            volumes[w[0].1 as usize].abs(),
-                            volumes[w[1].1 as usize].abs(),
-                        );
-                        let ratio = x.max(y) / x.min(y);
-                        worst = worst.max(ratio);
-                        sum += ratio;
-                        shared += 1;
+                        r.add(volumes[w[0].1 as usize], volumes[w[1].1 as usize]);
                     }
                 }
             }
-            (worst, sum, shared)
+            r
         })
         .collect();
-    runs.into_iter()
-        .fold((1.0, 0.0, 0), |(w, s, c), (w2, s2, c2)| {
-            (w.max(w2), s + s2, c + c2)
-        })
+    runs.into_iter().fold(Ratios::NONE, Ratios::merge)
 }
 
 /// The histogram bin of a smallest dihedral angle (NaN in the first).
@@ -272,20 +288,17 @@ impl QualityReport3 {
     /// As [`Self::of_tetrahedra`], with `neighbours[t][k]` the tetrahedron across the face of
     /// `tets[t]` opposite its vertex `k`, or `u32::MAX` on the border: the shared faces are
     /// then read from it instead of found by sorting (same figures, summed in another order).
-    ///
-    /// # Panics
-    /// If `neighbours` is not as long as `tets`.
+    /// Rows that are not one per tetrahedron are not used (the faces are sorted instead).
     pub fn of_mesh(
         points: &[[f64; 3]],
         tets: &[[u32; 4]],
         neighbours: &[[u32; 4]],
     ) -> QualityReport3 {
-        assert_eq!(
-            neighbours.len(),
-            tets.len(),
-            "one neighbour row per tetrahedron"
-        );
-        Self::measure(points, tets, Some(neighbours))
+        Self::measure(
+            points,
+            tets,
+            Some(neighbours).filter(|n| n.len() == tets.len()),
+        )
     }
 
     fn measure(
@@ -350,13 +363,17 @@ impl QualityReport3 {
         r.max_radius_edge = all.rmax;
         r.mean_radius_edge = all.rsum / count;
         let volumes: Vec<f64> = volumes.concat();
-        // Shared faces: sort the (face, tetrahedron) pairs so the two sides of a face meet.
-        let (worst, sum, shared) = match neighbours {
+        // Shared faces: from the neighbour rows, or by sorting the faces.
+        let ratios = match neighbours {
             Some(n) => ratios_across(n, &volumes),
             None => neighbour_ratios(points.len(), tets, &volumes),
         };
-        r.max_neighbour_volume_ratio = worst;
-        r.mean_neighbour_volume_ratio = if shared > 0 { sum / shared as f64 } else { 1.0 };
+        r.max_neighbour_volume_ratio = ratios.worst;
+        r.mean_neighbour_volume_ratio = if ratios.shared > 0 {
+            ratios.sum / ratios.shared as f64
+        } else {
+            1.0
+        };
         r
     }
 
@@ -531,6 +548,9 @@ mod tests {
             r.mean_neighbour_volume_ratio = 0.0;
             r
         };
-        assert_eq!(strip(rowed), strip(sorted));
+        // Rows that are not one per tetrahedron are not used: the faces are sorted.
+        let short = QualityReport3::of_mesh(&points, &tets, &rows[1..]);
+        assert_eq!(strip(rowed), strip(sorted.clone()));
+        assert_eq!(short, sorted);
     }
 }
