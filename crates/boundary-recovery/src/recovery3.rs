@@ -1407,11 +1407,11 @@ impl<'a> State<'a> {
         if self.added >= self.budget {
             return Err(self.not_recovered(vec![f]));
         }
-        if let Some((s, k)) = self.encroached_subsegment(f as usize, t) {
+        let (verts, bary, n_boundary) = self.facet_vertices(f as usize);
+        if let Some((s, k)) = self.encroached_subsegment(f as usize, t, &verts, &bary, n_boundary) {
             self.split_subsegment(s, k)?;
             return Ok(false);
         }
-        let (verts, bary, _) = self.facet_vertices(f as usize);
         let mut b = [0.0; 3];
         for v in t {
             let Some(i) = verts.iter().position(|&u| u == v) else {
@@ -1442,8 +1442,16 @@ impl<'a> State<'a> {
     /// to that edge (a third of the way each time: a thin slot's wall next to the other wall
     /// until a centroid rounds onto an existing vertex), so the edge is split instead, which
     /// moves the sub-faces off it.
-    fn encroached_subsegment(&self, f: usize, t: [VertexId; 3]) -> Option<(usize, usize)> {
-        let (verts, bary, n_boundary) = self.facet_vertices(f);
+    ///
+    /// `verts`, `bary` and `n_boundary` are [`State::facet_vertices`] of `f`.
+    fn encroached_subsegment(
+        &self,
+        f: usize,
+        t: [VertexId; 3],
+        verts: &[VertexId],
+        bary: &[[f64; 3]],
+        n_boundary: usize,
+    ) -> Option<(usize, usize)> {
         let frame = self.frame(f);
         let pos = t.map(|v| verts.iter().position(|&u| u == v));
         for e in 0..3 {
