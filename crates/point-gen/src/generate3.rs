@@ -14,10 +14,18 @@
 //! A tetrahedron's candidate and its α test depend only on its own nodes, so a tetrahedron
 //! rejected once stays rejected while it exists: after the first pass only the tetrahedra made
 //! by the previous pass's insertions are looked at.
+//!
+//! A pass evaluates its candidates in parallel, then visits them in the Hilbert order of their
+//! centroids, so consecutive insertions are neighbours and the cells and points they read are
+//! still in cache. A slot whose tetrahedron an earlier insertion of the pass has replaced is
+//! looked at as it is then: a cavity reuses its own slots, so the new tetrahedron is the old
+//! one's neighbour, and the count of points stays that of visiting the slots in order (which
+//! it was before, and which missed the cache on nearly every conflict test).
 
 use crate::PointGenError;
 use delmesh_boundary_recovery::{Mesh3, OUTSIDE};
-use delmesh_delaunay_core::{CellId, VertexId};
+use delmesh_delaunay_core::{CellId, Dim, VertexId, D3};
+use rayon::prelude::*;
 use std::fmt;
 
 /// Settings of automatic point generation in 3D.
@@ -107,7 +115,7 @@ impl PointGeneration3 {
     pub fn run(
         &self,
         mesh: &mut Mesh3,
-        spacing: impl Fn([f64; 3], f64) -> f64,
+        spacing: impl Fn([f64; 3], f64) -> f64 + Sync,
     ) -> Result<GenerationReport3, PointGenError> {
         if !(self.alpha > 0.0 && self.alpha.is_finite()) {
             return Err(PointGenError::BadAlpha(self.alpha));
@@ -117,48 +125,61 @@ impl PointGeneration3 {
             .flat_map(|v| mesh.ct.triangulation().vertex(VertexId(v as u32)))
             .fold(0.0f64, |m, c| m.max(c.abs()));
         let tiny = largest * 2f64.powi(-100);
+        let frame = Frame3::of(mesh);
         let mut report = GenerationReport3::default();
         let mut added = 0usize;
         let mut cells: Vec<CellId> = mesh.elements().collect();
         // The cell slots made in the current pass (a slot freed and reused counts once).
         let mut made: Vec<bool> = Vec::new();
         while report.passes.len() < self.max_passes && added < self.max_points {
+            // Every candidate of the pass, evaluated in parallel on the mesh as it is now, with
+            // the Hilbert key of its tetrahedron's centroid (10 bits per axis) above its id.
+            let dp_now: &[f64] = &dp;
+            let mesh_now: &Mesh3 = mesh;
+            let mut looked: Vec<(u64, Candidate3)> = cells
+                .par_iter()
+                .with_min_len(1 << 10)
+                .map(|&c| {
+                    let (g, k) = self.candidate(mesh_now, c, dp_now, &spacing, tiny);
+                    (frame.key(g) << 32 | u64::from(c.0), k)
+                })
+                .collect();
+            // Then visited in that order: consecutive insertions are neighbours, so the cells
+            // and points they read are still in cache (in slot order nearly every conflict
+            // test missed it), and new cells and vertices are numbered along the curve. A slot
+            // whose tetrahedron an earlier insertion of this pass replaced (cavities reuse
+            // their own slots, so the new one is there or nearby) is looked at as it is now.
+            looked.par_sort_unstable_by_key(|t| t.0);
             let (mut accepted, mut refused) = (0, 0);
-            for &c in &cells {
+            for &(key, early) in &looked {
                 if added >= self.max_points {
                     break;
                 }
+                let c = CellId(key as u32);
                 if !mesh.ct.is_live(c) {
                     continue;
                 }
-                let tri = mesh.ct.triangulation();
+                let replaced = made.get(c.index()).copied().unwrap_or(false);
+                let now = if replaced {
+                    self.candidate(mesh, c, &dp, &spacing, tiny).1
+                } else {
+                    early
+                };
+                let (g, h, reach2) = match now {
+                    Candidate3::Refused => continue,
+                    Candidate3::Tiny => {
+                        refused += 1;
+                        continue;
+                    }
+                    Candidate3::BadSpacing { value, at } => return Err(bad_spacing(value, at)),
+                    Candidate3::At { g, h, reach2 } => (g, h, reach2),
+                };
                 let tag = mesh.ct.tag(c);
-                let v = tri.cell(c);
-                if tag == OUTSIDE || v.iter().any(|u| u.is_ghost()) {
-                    continue;
-                }
-                let p = [0, 1, 2, 3].map(|k| tri.vertex(v[k]));
-                let g = [0, 1, 2].map(|k| 0.25 * (p[0][k] + p[1][k] + p[2][k] + p[3][k]));
-                let from_nodes = 0.25 * v.iter().map(|u| dp[u.index()]).sum::<f64>();
-                let h = spacing(g, from_nodes);
-                if !(h > 0.0 && h.is_finite()) {
-                    return Err(bad_spacing(h, g));
-                }
-                let reach2 = (self.alpha * h) * (self.alpha * h);
                 let dist2 = |q: [f64; 3]| {
                     (q[0] - g[0]) * (q[0] - g[0])
                         + (q[1] - g[1]) * (q[1] - g[1])
                         + (q[2] - g[2]) * (q[2] - g[2])
                 };
-                if p.iter().any(|&q| dist2(q) <= reach2) {
-                    continue;
-                }
-                if g.iter().any(|&x| x != 0.0 && x.abs() < tiny) {
-                    // Beyond the exact range of the triangulation (a centroid creeping onto a
-                    // zero coordinate): not a point worth adding.
-                    refused += 1;
-                    continue;
-                }
                 let inserted = mesh.ct.insert_if(g, c, |ct, cell| {
                     if ct.tag(cell) != tag {
                         return false;
@@ -182,12 +203,8 @@ impl PointGeneration3 {
                         accepted += 1;
                         added += 1;
                     }
-                    None => {
-                        // Refused only if the cell still exists and held the point.
-                        if mesh.ct.is_live(c) {
-                            refused += 1;
-                        }
-                    }
+                    // Refused only if the cell still exists and held the point.
+                    None => refused += 1,
                 }
             }
             report.passes.push(GenerationPass3 {
@@ -208,6 +225,102 @@ impl PointGeneration3 {
             }
         }
         Ok(report)
+    }
+}
+
+impl PointGeneration3 {
+    /// The centroid of cell `c`, and its candidate if `c` is an element: the centroid with its
+    /// spacing, unless a node of `c` is within `α·dp` of it (most candidates fail here).
+    fn candidate(
+        &self,
+        mesh: &Mesh3,
+        c: CellId,
+        dp: &[f64],
+        spacing: &impl Fn([f64; 3], f64) -> f64,
+        tiny: f64,
+    ) -> ([f64; 3], Candidate3) {
+        let nothing = ([0.0; 3], Candidate3::Refused);
+        if !mesh.ct.is_live(c) {
+            return nothing;
+        }
+        let tri = mesh.ct.triangulation();
+        let v = tri.cell(c);
+        if mesh.ct.tag(c) == OUTSIDE || v.iter().any(|u| u.is_ghost()) {
+            return nothing;
+        }
+        let p = [0, 1, 2, 3].map(|k| tri.vertex(v[k]));
+        let g = [0, 1, 2].map(|k| 0.25 * (p[0][k] + p[1][k] + p[2][k] + p[3][k]));
+        let from_nodes = 0.25 * v.iter().map(|u| dp[u.index()]).sum::<f64>();
+        let h = spacing(g, from_nodes);
+        if !(h > 0.0 && h.is_finite()) {
+            return (g, Candidate3::BadSpacing { value: h, at: g });
+        }
+        let reach2 = (self.alpha * h) * (self.alpha * h);
+        let dist2 = |q: [f64; 3]| {
+            (q[0] - g[0]) * (q[0] - g[0])
+                + (q[1] - g[1]) * (q[1] - g[1])
+                + (q[2] - g[2]) * (q[2] - g[2])
+        };
+        if p.iter().any(|&q| dist2(q) <= reach2) {
+            return (g, Candidate3::Refused);
+        }
+        if g.iter().any(|&x| x != 0.0 && x.abs() < tiny) {
+            // Beyond the exact range of the triangulation (a centroid creeping onto a zero
+            // coordinate): not a point worth adding.
+            return (g, Candidate3::Tiny);
+        }
+        (g, Candidate3::At { g, h, reach2 })
+    }
+}
+
+/// What a tetrahedron proposes.
+#[derive(Clone, Copy, Debug)]
+enum Candidate3 {
+    /// Nothing (not an element, or a node too close to its centroid).
+    Refused,
+    /// A centroid too close to a zero coordinate to be represented exactly (counted refused).
+    Tiny,
+    /// The spacing field gave a bad value at the centroid.
+    BadSpacing { value: f64, at: [f64; 3] },
+    /// Its centroid `g`, the spacing `h` there and the squared reach `(α·h)²`.
+    At { g: [f64; 3], h: f64, reach2: f64 },
+}
+
+/// The bounding box of the mesh's vertices, for Hilbert keys of candidates.
+struct Frame3 {
+    lo: [f64; 3],
+    scale: f64,
+}
+
+impl Frame3 {
+    /// Key resolution: 10 bits per axis, so the key and a cell id fit in 62 bits.
+    const CELLS: f64 = 1023.0;
+
+    fn of(mesh: &Mesh3) -> Frame3 {
+        let tri = mesh.ct.triangulation();
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for i in 0..tri.num_vertices() {
+            let p = tri.vertex(VertexId(i as u32));
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        // One scale for the three axes keeps the curve's cells cubes.
+        let w = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max);
+        let scale = if w > 0.0 && w.is_finite() {
+            Self::CELLS / w
+        } else {
+            0.0
+        };
+        Frame3 { lo, scale }
+    }
+
+    /// The Hilbert key of `p` on a 2^10 grid over the box (clamped): below 2^30.
+    fn key(&self, p: [f64; 3]) -> u64 {
+        let q =
+            [0, 1, 2].map(|k| ((p[k] - self.lo[k]) * self.scale).clamp(0.0, Self::CELLS) as u32);
+        D3::hilbert_key(&q)
     }
 }
 
