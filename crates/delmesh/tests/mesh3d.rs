@@ -230,3 +230,25 @@ fn a_thin_slot_made_by_gmsh_is_recovered() {
     // The slot goes through the cube: a solid of genus 1.
     check(&plc, &run, 0, true);
 }
+
+#[test]
+fn the_3d_pipeline_gives_the_same_mesh_whatever_the_number_of_threads() {
+    // Point generation evaluates candidates in parallel and smoothing moves colour classes in
+    // parallel: neither may let the thread count change the result.
+    let plc = geometry3::sphere_in_box(4);
+    let run_with = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| mesh_plc3(&plc, &options(0.5)).unwrap())
+    };
+    let one = run_with(1);
+    let added = one.generation.as_ref().unwrap().points_added();
+    assert!(added > 100, "{added} points added");
+    for threads in [2, 3] {
+        let other = run_with(threads);
+        assert_eq!(one.arrays.coords, other.arrays.coords, "{threads} threads");
+        assert_eq!(one.arrays.tets, other.arrays.tets, "{threads} threads");
+    }
+}
