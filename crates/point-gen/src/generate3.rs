@@ -108,7 +108,9 @@ impl PointGeneration3 {
     /// Fills the domain of `mesh` with points spaced as `spacing(p, from_nodes)` says, where
     /// `from_nodes` is the mean of the tetrahedron's node values (the paper's interpolation);
     /// `spacing(p, own)` is also asked once per existing node with the node's own value. New
-    /// nodes get their spacing in `mesh.spacing`.
+    /// nodes get their spacing in `mesh.spacing`. `spacing` is called from several threads
+    /// (the candidates of a pass are evaluated in parallel), so it must be `Sync`; the result
+    /// does not depend on the number of threads.
     ///
     /// # Errors
     /// A bad α, or a spacing that is not positive and finite.
