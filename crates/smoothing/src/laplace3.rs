@@ -10,8 +10,8 @@
 //! with the expressions of the one-by-one test; the floating-point volume decides the sign
 //! only where its error bound ([`VOLUME_ERRBOUND`]) certifies it, else exact `orient3d` does,
 //! and a tetrahedron below the angle floor goes to the one-by-one guard. The decisions are
-//! those of testing each tetrahedron in full (a unit test compares them), in about 0.72 of the
-//! time per pass (`cargo bench --bench smoothing3 -- floor20`: 239 ms against 323 ms).
+//! those of testing each tetrahedron in full (a unit test compares them), in about 0.69 of the
+//! time per pass (`cargo bench --bench smoothing3 -- floor20`: 140 ms against 203 ms).
 //!
 //! Laplacian smoothing in 3D also makes *slivers*: four nearly coplanar points, a flat
 //! tetrahedron with dihedral angles near 0° and 180° but a fine radius–edge ratio, which the
