@@ -37,13 +37,13 @@ pub use triangulation::{Insertion, Location, Triangulation};
 pub use voronoi::{VoronoiCell2, VoronoiDiagram, VoronoiFace3};
 
 /// An order in which to insert a batch of `points` (indices into it) into an existing
-/// triangulation: biased randomised rounds (the first of about 64 points), each along a
-/// Hilbert curve. The random rounds matter when the triangulation's cells are large next to
+/// triangulation: biased randomised rounds (the first of about 64 points, whatever the batch's
+/// size), each along a Hilbert curve. The random rounds matter when the triangulation's cells are large next to
 /// the batch's spacing (points just inside a finely divided circle: in boundary order every
 /// insertion would rebuild the cells across the whole circle); the Hilbert order keeps walks
 /// short. Deterministic for a given input.
 pub fn insertion_order<D: Dim>(points: &[D::Point]) -> Vec<u32> {
-    sort::brio_order_from::<D>(points, 64)
+    sort::brio_order_from::<D>(points, sort::SMALL_FIRST_ROUND)
 }
 
 /// A 2D Delaunay triangulation.

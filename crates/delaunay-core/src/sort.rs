@@ -18,7 +18,7 @@ const FIRST_ROUND: usize = 1024;
 /// boundary points: a mean cavity of 31 cells, 6 with random rounds from 64 points). Larger
 /// inputs keep the bigger first round, whose locality matters more to them (a 37,000-point
 /// bunny recovers 15–25% slower with rounds from 64).
-const SMALL_FIRST_ROUND: usize = 64;
+pub(crate) const SMALL_FIRST_ROUND: usize = 64;
 /// See [`SMALL_FIRST_ROUND`].
 const SMALL_INPUT: usize = 16384;
 /// Resolution of the Hilbert curve per axis: plenty for ordering, and the key (at most 48
@@ -217,7 +217,7 @@ pub(crate) const PARALLEL_MIN: usize = 8192;
 ///
 /// Each point draws its round from a hash of its index: it lands in the last round with
 /// probability 7/8, the one before with 7/64, and so on, and the first round holds the rest
-/// (about `FIRST_ROUND` points). One sort by `(round, Hilbert key)` then gives the order, with
+/// (about [`FIRST_ROUND`] points, or [`SMALL_FIRST_ROUND`] for small inputs). One sort by `(round, Hilbert key)` then gives the order, with
 /// the points read sequentially.
 pub(crate) fn brio_order<D: Dim>(points: &[D::Point]) -> Vec<u32> {
     let first_round = if points.len() < SMALL_INPUT {
