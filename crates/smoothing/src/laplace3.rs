@@ -437,6 +437,7 @@ impl Smoother3 {
             worst_cos_at_most(g, limit)
         };
         let guard_off = matches!(guard, Guard::Off);
+        let mut first = 0;
         for halving in 0..=MAX_HALVINGS {
             let y = [x[0] + step[0], x[1] + step[1], x[2] + step[2]];
             if y == x {
@@ -446,8 +447,10 @@ impl Smoother3 {
                 step = step.map(|c| 0.5 * c);
                 continue;
             }
-            let ok = lanes.iter().enumerate().all(|(k, group)| {
-                let t = group.trial(y, guard);
+            // The group that refused the last trial is tried first (the same tetrahedron
+            // usually refuses the halved step too); the answer does not depend on the order.
+            let ok = (first..lanes.len()).chain(0..first).all(|k| {
+                let t = lanes[k].trial(y, guard);
                 let real = |j: usize| k * LANES + j < faces.len();
                 let (mut kept, mut settled) = (true, true);
                 for j in 0..LANES {
@@ -455,11 +458,12 @@ impl Smoother3 {
                     settled &= !real(j) | (t.certain[j] & (t.floor[j] | guard_off));
                 }
                 if !kept {
+                    first = k;
                     return false;
                 }
                 // Rarely: a sign the floating-point volume cannot certify, or an angle below
                 // the floor (or of extreme scale), asked one tetrahedron at a time.
-                settled
+                let passed = settled
                     || (0..LANES).filter(|&j| real(j)).all(|j| {
                         let i = k * LANES + j;
                         let [a, b, c] = face_points(&faces[i]);
@@ -481,7 +485,11 @@ impl Smoother3 {
                             ];
                             guard_accepts(i, &g, floor_cos)
                         }
-                    })
+                    });
+                if !passed {
+                    first = k;
+                }
+                passed
             });
             if ok {
                 return (Some((y, halving)), dot(step, step) / (ring_length2 / m));
