@@ -27,8 +27,8 @@ pub enum IoError {
         /// What is wrong, in words.
         message: String,
     },
-    /// A binary file is malformed (binary `.stl`); `offset` is the byte where the problem is,
-    /// since such a file has no lines.
+    /// A binary file is malformed (binary `.stl`, the binary data of a binary `.msh`); `offset`
+    /// is the byte where the problem is, since such data has no lines.
     #[error("{file}: byte {offset}: {message}", file = .file.display())]
     Binary {
         /// The file being read.

@@ -20,7 +20,7 @@
 //! | `.stl`, ASCII and binary | [`read_stl`], [`parse_stl`] | |
 //! | Wavefront `.obj` | [`read_obj`], [`parse_obj`] | |
 //! | Medit `.mesh` | [`read_medit`], [`parse_medit`] (surface and tetrahedra) | [`write_medit`] |
-//! | gmsh `.msh` 2.2 / 4.1 ASCII | [`read_msh`], [`parse_msh`] (surface and tetrahedra) | [`write_msh`] (4.1) |
+//! | gmsh `.msh` 2.2 / 4.1, ASCII and binary | [`read_msh`], [`parse_msh`], [`parse_msh_bytes`] (surface and tetrahedra) | [`write_msh`] (4.1 ASCII) |
 //! | SU2 `.su2` | | [`write_su2`] |
 //! | TetGen `.node/.ele/.face` with markers and regions | | [`write_tetgen_mesh`] |
 //!
@@ -57,6 +57,7 @@ mod error;
 mod medit;
 mod model;
 mod msh;
+mod msh_binary;
 mod node;
 mod obj;
 mod off;
@@ -77,7 +78,7 @@ pub use atomic::write_atomic;
 pub use error::IoError;
 pub use medit::{parse_medit, read_medit, write_medit};
 pub use model::{PointSet, SimplexMesh};
-pub use msh::{parse_msh, read_msh, write_msh};
+pub use msh::{parse_msh, parse_msh_bytes, read_msh, write_msh};
 pub use node::{parse_node, read_node, write_ele, write_neigh, write_node, write_tetgen_family};
 pub use obj::{parse_obj, read_obj};
 pub use off::{parse_off, read_off, write_off};

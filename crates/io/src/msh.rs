@@ -1,14 +1,21 @@
-//! gmsh `.msh` files: read in the ASCII versions 2.2 and 4.1, written in version 4.1 ASCII.
+//! gmsh `.msh` files: read in versions 2.2 and 4.1, ASCII or binary; written in version 4.1
+//! ASCII.
 //!
 //! gmsh is the most widely used open mesher in CFD, and its `.msh` is read by many solvers
 //! (OpenFOAM's `gmshToFoam`, SU2 via converters, Code_Saturne, Fluidity...). Boundary
 //! conditions travel as *physical groups*: a boundary marker here is a physical tag.
 //!
 //! Reading (surface triangles as facets, tetrahedra as a volume mesh):
-//! - sections `$MeshFormat` (version `2.x` or `4.1`, file type 0; binary files are refused with
-//!   a hint to save as ASCII, gmsh 4.0 files too), `$PhysicalNames` (optional; names of
-//!   dimension 2 become marker names), `$Entities` (4.1), `$Nodes`, `$Elements`. Other sections
-//!   (`$Periodic`, `$NodeData`, `$Comments`...) are skipped up to their `$End` line.
+//! - sections `$MeshFormat` (version `2.x` or `4.1`; gmsh 4.0 files are refused with a hint to
+//!   save in 4.1 or 2.2), `$PhysicalNames` (optional; names of dimension 2 become marker
+//!   names), `$Entities` (4.1), `$Nodes`, `$Elements`. Other sections (`$Periodic`,
+//!   `$NodeData`, `$Comments`...) are skipped up to their `$End` line.
+//! - file type 0 is read here, line by line; a file whose first section is a `$MeshFormat` of
+//!   file type 1 is binary and read by [`crate::msh_binary`], which gives the same
+//!   [`SurfaceFile`] as this reader gives for the ASCII file of the same mesh (the only
+//!   difference: a binary facet's `line` is that of its `$Elements` keyword). [`read_msh`] and
+//!   [`parse_msh_bytes`] take either; [`parse_msh`], which takes text, also reads a binary file
+//!   whose bytes happen to be valid UTF-8.
 //! - element types 2 (3-node triangle) and 3 (4-node quadrangle) become facets, type 4
 //!   (4-node tetrahedron) tetrahedra; other types (points, lines, higher-order elements) are
 //!   skipped.
@@ -35,59 +42,82 @@ use std::io::Write;
 use std::path::Path;
 
 use crate::atomic::write_atomic;
+use crate::msh_binary;
 use crate::surface::{SurfaceFacet, SurfaceFile};
 use crate::tetmesh::TetMeshOut;
-use crate::text::{format_f64, parse_coord, parse_count, parse_int, read_text, shorten, write_f64};
+use crate::text::{format_f64, parse_coord, parse_count, parse_int, shorten, write_f64};
 use crate::IoError;
 
-/// Reads a gmsh `.msh` file (ASCII, version 2.2 or 4.1).
+/// Reads a gmsh `.msh` file (version 2.2 or 4.1, ASCII or binary).
 pub fn read_msh(path: &Path) -> Result<SurfaceFile, IoError> {
     let bytes = std::fs::read(path).map_err(|e| IoError::io(path, e))?;
-    // A binary file has an ASCII header; refuse it by that rather than by its invalid UTF-8.
-    if let Some(version) = binary_header(&bytes) {
-        return Err(binary_error(path, version));
+    parse_msh_bytes(&bytes, path)
+}
+
+/// Parses the bytes of a `.msh` file, ASCII or binary (version 2.2 or 4.1), choosing by the
+/// file type in its `$MeshFormat` line; `file` names it in messages.
+pub fn parse_msh_bytes(bytes: &[u8], file: &Path) -> Result<SurfaceFile, IoError> {
+    if msh_binary::is_binary(bytes) {
+        return msh_binary::parse(bytes, file);
     }
-    let text = read_text(path)?;
-    parse_msh(&text, path)
-}
-
-fn binary_header(bytes: &[u8]) -> Option<usize> {
-    let head = &bytes[..bytes.len().min(256)];
-    let head = String::from_utf8_lossy(head);
-    let mut lines = head.lines().map(str::trim).filter(|l| !l.is_empty());
-    (lines.next()? == "$MeshFormat").then_some(())?;
-    let toks: Vec<&str> = lines.next()?.split_whitespace().collect();
-    (toks.get(1) == Some(&"1")).then_some(2)
-}
-
-fn binary_error(file: &Path, line: usize) -> IoError {
-    IoError::parse(
-        file,
-        line,
-        "binary .msh files are not supported: save the mesh as ASCII (in gmsh, untick \
-         'Binary' in the export options, or run gmsh without -bin)",
-    )
+    let text = std::str::from_utf8(bytes).map_err(|e| {
+        let valid = e.valid_up_to();
+        let line = 1 + bytes[..valid].iter().filter(|&&b| b == b'\n').count();
+        IoError::parse(file, line, "file is not valid UTF-8 text")
+    })?;
+    parse_ascii(text, file)
 }
 
 /// The `.msh` versions read.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Version {
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(crate) enum Version {
     V2,
     V41,
 }
 
+/// The version of a `$MeshFormat` line's first field, or the error for the versions not read.
+pub(crate) fn parse_version(token: &str, file: &Path, line: usize) -> Result<Version, IoError> {
+    match token {
+        "4.1" => Ok(Version::V41),
+        v if v == "2" || v.starts_with("2.") => Ok(Version::V2),
+        v if v == "4" || v.starts_with("4.0") => Err(IoError::parse(
+            file,
+            line,
+            format!("gmsh format {v} is not supported: save the mesh in format 4.1 or 2.2"),
+        )),
+        v => Err(IoError::parse(
+            file,
+            line,
+            format!("unsupported gmsh format version '{}'", shorten(v)),
+        )),
+    }
+}
+
 /// Non-blank lines with their 1-based numbers.
-struct Lines<'t> {
+pub(crate) struct Lines<'t> {
     inner: std::iter::Enumerate<std::str::Lines<'t>>,
     file: &'t Path,
+    /// The number of the text's first line (1 for a whole file).
+    first: usize,
     last: usize,
 }
 
 impl<'t> Lines<'t> {
+    /// The lines of `text`, numbered from `first`.
+    pub(crate) fn new(text: &'t str, file: &'t Path, first: usize) -> Self {
+        Lines {
+            inner: text.lines().enumerate(),
+            file,
+            first,
+            last: first + text.lines().count().max(1) - 1,
+        }
+    }
+
     fn next_opt(&mut self) -> Option<(usize, &'t str)> {
+        let first = self.first;
         self.inner
             .by_ref()
-            .map(|(i, l)| (i + 1, l.trim()))
+            .map(|(i, l)| (i + first, l.trim()))
             .find(|(_, l)| !l.is_empty())
     }
 
@@ -155,30 +185,168 @@ impl<'t> Lines<'t> {
 }
 
 /// An element read before its markers are known: which entity (4.1) or physical tag (2.2).
-struct Pending {
-    line: usize,
-    nodes: Vec<u32>,
+pub(crate) struct Pending {
+    pub(crate) line: usize,
+    pub(crate) nodes: Vec<u32>,
     /// 2.2: the physical tag. 4.1: the entity tag.
-    tag: i32,
+    pub(crate) tag: i32,
 }
 
-/// Parses the text of an ASCII `.msh` file (version 2.2 or 4.1); `file` names it in messages.
+/// The number of corners of the element types read: 2 (triangle) and 3 (quadrangle) become
+/// facets, 4 (tetrahedron) tetrahedra; `None` for the types skipped.
+pub(crate) fn corners(ty: i64) -> Option<usize> {
+    match ty {
+        2 => Some(3),
+        3 | 4 => Some(4),
+        _ => None,
+    }
+}
+
+/// What the ASCII and the binary readers collect, turned into a [`SurfaceFile`] by
+/// [`MshData::finish`]. The methods' errors are messages without a place: each reader adds
+/// its own (a line, a byte offset).
+#[derive(Default)]
+pub(crate) struct MshData {
+    points: Vec<[f64; 3]>,
+    node_index: HashMap<u64, u32>,
+    marker_names: Vec<(i32, String)>,
+    /// (dim, entity tag) -> first physical tag (4.1).
+    entity_physical: HashMap<(i32, i32), i32>,
+    facets: Vec<Pending>,
+    tets: Vec<Pending>,
+}
+
+impl MshData {
+    /// Adds node `tag` at `p` (the next point); an error if the tag is already taken.
+    pub(crate) fn add_node(&mut self, tag: u64, p: [f64; 3]) -> Result<(), String> {
+        if self
+            .node_index
+            .insert(tag, self.points.len() as u32)
+            .is_some()
+        {
+            return Err(format!("node tag {tag} is defined twice"));
+        }
+        self.points.push(p);
+        Ok(())
+    }
+
+    /// The point index of node `tag`.
+    pub(crate) fn node(&self, tag: u64) -> Result<u32, String> {
+        self.node_index
+            .get(&tag)
+            .copied()
+            .ok_or_else(|| format!("node {tag} is not defined in $Nodes"))
+    }
+
+    /// Records that entity `(dim, tag)` (4.1) is in physical group `physical` (its first).
+    pub(crate) fn set_entity_physical(&mut self, dim: i32, tag: i32, physical: i32) {
+        self.entity_physical.insert((dim, tag), physical);
+    }
+
+    /// Keeps an element of type `ty` (one [`corners`] knows).
+    pub(crate) fn keep(&mut self, ty: i64, p: Pending) {
+        match ty {
+            4 => self.tets.push(p),
+            _ => self.facets.push(p),
+        }
+    }
+
+    /// The surface file: markers looked up (4.1: element entity -> first physical tag of the
+    /// entity, 0 if none; 2.2: the element's physical tag), names sorted by marker.
+    pub(crate) fn finish(self, version: Version) -> SurfaceFile {
+        let MshData {
+            points,
+            mut marker_names,
+            entity_physical,
+            facets,
+            tets,
+            ..
+        } = self;
+        let marker = |dim: i32, tag: i32| match version {
+            Version::V2 => tag,
+            Version::V41 => entity_physical.get(&(dim, tag)).copied().unwrap_or(0),
+        };
+        marker_names.sort();
+        SurfaceFile {
+            points,
+            facets: facets
+                .into_iter()
+                .map(|p| SurfaceFacet {
+                    marker: marker(2, p.tag),
+                    polygons: vec![p.nodes],
+                    holes: Vec::new(),
+                    line: p.line,
+                })
+                .collect(),
+            tetrahedron_regions: tets.iter().map(|p| marker(3, p.tag)).collect(),
+            tetrahedra: tets
+                .iter()
+                .map(|p| [p.nodes[0], p.nodes[1], p.nodes[2], p.nodes[3]])
+                .collect(),
+            marker_names,
+            first_index: 1,
+            ..SurfaceFile::default()
+        }
+    }
+}
+
+/// The body of a `$PhysicalNames` section (the line after the keyword to `$EndPhysicalNames`),
+/// which binary files also write as text: names of dimension 2 become marker names.
+pub(crate) fn parse_physical_names(ls: &mut Lines<'_>, data: &mut MshData) -> Result<(), IoError> {
+    let file = ls.file;
+    let (l, toks) = ls.fields("the number of physical names", 1, false)?;
+    let n = parse_count(toks[0], "number of physical names", file, l)?;
+    for _ in 0..n {
+        let what = "a physical name '<dim> <tag> \"name\"'";
+        let (l, raw, toks) = ls.record(what)?;
+        if toks.len() < 3 {
+            return Err(IoError::parse(
+                file,
+                l,
+                format!(
+                    "expected at least 3 fields for {what}, found {}",
+                    toks.len()
+                ),
+            ));
+        }
+        let dim: i32 = parse_int(toks[0], "dimension", file, l)?;
+        let tag: i32 = parse_int(toks[1], "physical tag", file, l)?;
+        // The name is everything between the first and the last quote, spaces kept.
+        let name = match (raw.find('"'), raw.rfind('"')) {
+            (Some(a), Some(b)) if b > a && raw[..a].split_whitespace().count() == 2 => {
+                &raw[a + 1..b]
+            }
+            _ => {
+                return Err(IoError::parse(
+                    file,
+                    l,
+                    format!("physical name in '{}' is not quoted", shorten(raw)),
+                ))
+            }
+        };
+        if dim == 2 {
+            data.marker_names.push((tag, name.to_string()));
+        }
+    }
+    ls.expect_end("PhysicalNames")
+}
+
+/// Parses the text of a `.msh` file (version 2.2 or 4.1); `file` names it in messages. A
+/// binary file whose bytes happen to be valid UTF-8 is read as binary (see
+/// [`parse_msh_bytes`], which takes any bytes).
 pub fn parse_msh(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
+    if msh_binary::is_binary(text.as_bytes()) {
+        return msh_binary::parse(text.as_bytes(), file);
+    }
+    parse_ascii(text, file)
+}
+
+fn parse_ascii(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
     let err = |line: usize, message: String| IoError::parse(file, line, message);
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut ls = Lines {
-        inner: text.lines().enumerate(),
-        file,
-        last: text.lines().count().max(1),
-    };
+    let mut ls = Lines::new(text, file, 1);
     let mut version = None;
-    let mut points: Vec<[f64; 3]> = Vec::new();
-    let mut node_index: HashMap<u64, u32> = HashMap::new();
-    let mut marker_names = Vec::new();
-    // (dim, entity tag) -> first physical tag (4.1).
-    let mut entity_physical: HashMap<(i32, i32), i32> = HashMap::new();
-    let mut facets: Vec<Pending> = Vec::new();
-    let mut tets: Vec<Pending> = Vec::new();
+    let mut data = MshData::default();
 
     while let Some((line, raw)) = ls.next_opt() {
         let need_version =
@@ -189,67 +357,21 @@ pub fn parse_msh(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
                     ls.fields("the format line '<version> <file type> <size>'", 3, false)?;
                 if toks[1] != "0" {
                     return Err(if toks[1] == "1" {
-                        binary_error(file, l)
+                        // A binary file is recognised by its first section (`is_binary`).
+                        err(
+                            l,
+                            "binary file type in a $MeshFormat that is not the first section: \
+                             a binary .msh file must begin with $MeshFormat"
+                                .into(),
+                        )
                     } else {
                         err(l, format!("unknown file type '{}'", shorten(toks[1])))
                     });
                 }
-                version = Some(match toks[0] {
-                    "4.1" => Version::V41,
-                    v if v == "2" || v.starts_with("2.") => Version::V2,
-                    v if v == "4" || v.starts_with("4.0") => {
-                        return Err(err(
-                            l,
-                            format!(
-                                "gmsh format {v} is not supported: save the mesh in format \
-                                 4.1 or 2.2"
-                            ),
-                        ))
-                    }
-                    v => {
-                        return Err(err(
-                            l,
-                            format!("unsupported gmsh format version '{}'", shorten(v)),
-                        ))
-                    }
-                });
+                version = Some(parse_version(toks[0], file, l)?);
                 ls.expect_end("MeshFormat")?;
             }
-            "$PhysicalNames" => {
-                let (l, toks) = ls.fields("the number of physical names", 1, false)?;
-                let n = parse_count(toks[0], "number of physical names", file, l)?;
-                for _ in 0..n {
-                    let what = "a physical name '<dim> <tag> \"name\"'";
-                    let (l, raw, toks) = ls.record(what)?;
-                    if toks.len() < 3 {
-                        return Err(err(
-                            l,
-                            format!(
-                                "expected at least 3 fields for {what}, found {}",
-                                toks.len()
-                            ),
-                        ));
-                    }
-                    let dim: i32 = parse_int(toks[0], "dimension", file, l)?;
-                    let tag: i32 = parse_int(toks[1], "physical tag", file, l)?;
-                    // The name is everything between the first and the last quote, spaces kept.
-                    let name = match (raw.find('"'), raw.rfind('"')) {
-                        (Some(a), Some(b)) if b > a && raw[..a].split_whitespace().count() == 2 => {
-                            &raw[a + 1..b]
-                        }
-                        _ => {
-                            return Err(err(
-                                l,
-                                format!("physical name in '{}' is not quoted", shorten(raw)),
-                            ))
-                        }
-                    };
-                    if dim == 2 {
-                        marker_names.push((tag, name.to_string()));
-                    }
-                }
-                ls.expect_end("PhysicalNames")?;
-            }
+            "$PhysicalNames" => parse_physical_names(&mut ls, &mut data)?,
             "$Entities" => {
                 if need_version(version)? != Version::V41 {
                     return Err(err(line, "$Entities in a version 2 file".into()));
@@ -271,8 +393,8 @@ pub fn parse_msh(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
                             let t = toks.get(2 + skip).ok_or_else(|| {
                                 err(l, "missing physical tag of the entity".into())
                             })?;
-                            entity_physical
-                                .insert((dim as i32, tag), parse_int(t, "physical tag", file, l)?);
+                            let physical = parse_int(t, "physical tag", file, l)?;
+                            data.set_entity_physical(dim as i32, tag, physical);
                         }
                     }
                 }
@@ -280,25 +402,21 @@ pub fn parse_msh(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
             }
             "$Nodes" => {
                 let v = need_version(version)?;
-                let mut add = |l: usize, tag: &str, xyz: &[&str]| -> Result<(), IoError> {
+                let add = |data: &mut MshData, l: usize, tag: &str, xyz: &[&str]| {
                     let tag: u64 = parse_int(tag, "node tag", file, l)?;
                     let p = [
                         parse_coord(xyz[0], "x", file, l)?,
                         parse_coord(xyz[1], "y", file, l)?,
                         parse_coord(xyz[2], "z", file, l)?,
                     ];
-                    if node_index.insert(tag, points.len() as u32).is_some() {
-                        return Err(err(l, format!("node tag {tag} is defined twice")));
-                    }
-                    points.push(p);
-                    Ok(())
+                    data.add_node(tag, p).map_err(|m| err(l, m))
                 };
                 if v == Version::V2 {
                     let (l, toks) = ls.fields("the number of nodes", 1, false)?;
                     let n = parse_count(toks[0], "number of nodes", file, l)?;
                     for _ in 0..n {
                         let (l, toks) = ls.fields("a node '<tag> <x> <y> <z>'", 4, false)?;
-                        add(l, toks[0], &toks[1..])?;
+                        add(&mut data, l, toks[0], &toks[1..])?;
                     }
                 } else {
                     let (l, toks) = ls.fields("the node counts", 4, false)?;
@@ -313,13 +431,7 @@ pub fn parse_msh(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
                         let parametric = parse_count(toks[2], "parametric flag", file, l)?;
                         let n = parse_count(toks[3], "number of nodes", file, l)?;
                         if dim > 3 || parametric > 1 {
-                            return Err(err(
-                                l,
-                                format!(
-                                    "entity dimension {dim} or parametric flag {parametric} \
-                                     out of range (0-3, 0-1)"
-                                ),
-                            ));
+                            return Err(err(l, node_block_range(dim, parametric)));
                         }
                         let mut tags = Vec::with_capacity(n.min(text.len() / 2));
                         for _ in 0..n {
@@ -329,7 +441,7 @@ pub fn parse_msh(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
                         let width = 3 + if parametric == 1 { dim } else { 0 };
                         for (_, tag) in tags {
                             let (l, toks) = ls.fields("node coordinates", width, false)?;
-                            add(l, tag, &toks)?;
+                            add(&mut data, l, tag, &toks)?;
                         }
                     }
                 }
@@ -337,24 +449,13 @@ pub fn parse_msh(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
             }
             "$Elements" => {
                 let v = need_version(version)?;
-                let lookup = |l: usize, toks: &[&str]| -> Result<Vec<u32>, IoError> {
+                let lookup = |data: &MshData, l: usize, toks: &[&str]| {
                     toks.iter()
                         .map(|t| {
                             let tag: u64 = parse_int(t, "node tag", file, l)?;
-                            node_index.get(&tag).copied().ok_or_else(|| {
-                                err(l, format!("node {tag} is not defined in $Nodes"))
-                            })
+                            data.node(tag).map_err(|m| err(l, m))
                         })
-                        .collect()
-                };
-                let mut keep = |ty: i64, p: Pending| match ty {
-                    4 => tets.push(p),
-                    _ => facets.push(p),
-                };
-                let corners = |ty: i64| match ty {
-                    2 => Some(3),
-                    3 | 4 => Some(4),
-                    _ => None,
+                        .collect::<Result<Vec<u32>, IoError>>()
                 };
                 if v == Version::V2 {
                     let (l, toks) = ls.fields("the number of elements", 1, false)?;
@@ -380,8 +481,8 @@ pub fn parse_msh(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
                             0 => 0,
                             _ => parse_int(toks[3], "physical tag", file, l)?,
                         };
-                        let nodes = lookup(l, &toks[3 + ntags..])?;
-                        keep(
+                        let nodes = lookup(&data, l, &toks[3 + ntags..])?;
+                        data.keep(
                             ty,
                             Pending {
                                 line: l,
@@ -416,8 +517,8 @@ pub fn parse_msh(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
                                     ),
                                 ));
                             }
-                            let nodes = lookup(l, &toks[1..])?;
-                            keep(
+                            let nodes = lookup(&data, l, &toks[1..])?;
+                            data.keep(
                                 ty,
                                 Pending {
                                     line: l,
@@ -445,15 +546,7 @@ pub fn parse_msh(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
                     }
                 }
             }
-            other => {
-                return Err(err(
-                    line,
-                    format!(
-                        "expected a section such as $MeshFormat, $Nodes or $Elements, found '{}'",
-                        shorten(other)
-                    ),
-                ))
-            }
+            other => return Err(err(line, not_a_section(other))),
         }
     }
     let Some(version) = version else {
@@ -462,31 +555,23 @@ pub fn parse_msh(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
             "no $MeshFormat section: not a gmsh .msh file".into(),
         ));
     };
-    let marker = |dim: i32, tag: i32| match version {
-        Version::V2 => tag,
-        Version::V41 => entity_physical.get(&(dim, tag)).copied().unwrap_or(0),
-    };
-    marker_names.sort();
-    Ok(SurfaceFile {
-        points,
-        facets: facets
-            .into_iter()
-            .map(|p| SurfaceFacet {
-                marker: marker(2, p.tag),
-                polygons: vec![p.nodes],
-                holes: Vec::new(),
-                line: p.line,
-            })
-            .collect(),
-        tetrahedron_regions: tets.iter().map(|p| marker(3, p.tag)).collect(),
-        tetrahedra: tets
-            .iter()
-            .map(|p| [p.nodes[0], p.nodes[1], p.nodes[2], p.nodes[3]])
-            .collect(),
-        marker_names,
-        first_index: 1,
-        ..SurfaceFile::default()
-    })
+    Ok(data.finish(version))
+}
+
+/// The message for a 4.1 node block whose dimension or parametric flag is out of range.
+pub(crate) fn node_block_range(
+    dim: impl std::fmt::Display,
+    parametric: impl std::fmt::Display,
+) -> String {
+    format!("entity dimension {dim} or parametric flag {parametric} out of range (0-3, 0-1)")
+}
+
+/// The message for a line where a section keyword was expected.
+pub(crate) fn not_a_section(found: &str) -> String {
+    format!(
+        "expected a section such as $MeshFormat, $Nodes or $Elements, found '{}'",
+        shorten(found)
+    )
 }
 
 /// Gives each distinct key (a marker, a region) a positive physical tag: its own value when

@@ -87,7 +87,7 @@ impl SurfaceFile {
 
 /// Reads a 3D surface (or volume mesh) file, choosing the reader from the extension:
 /// `.smesh` and `.poly` (TetGen; a 2D Triangle `.poly` is refused with a hint), `.off`,
-/// `.stl` (ASCII or binary), `.obj`, `.mesh` (Medit), `.msh` (gmsh 2.2 / 4.1 ASCII). Any other
+/// `.stl` (ASCII or binary), `.obj`, `.mesh` (Medit), `.msh` (gmsh 2.2 / 4.1, ASCII or binary). Any other
 /// extension is an [`IoError::UnknownFormat`].
 pub fn read_surface(path: &Path) -> Result<SurfaceFile, IoError> {
     let ext = path

@@ -6,8 +6,8 @@
 use std::path::Path;
 
 use delmesh_io::{
-    parse_medit, parse_msh, parse_obj, parse_off, parse_poly_any, parse_smesh, parse_stl,
-    parse_tetgen_poly, IoError, SurfaceFile,
+    parse_medit, parse_msh, parse_msh_bytes, parse_obj, parse_off, parse_poly_any, parse_smesh,
+    parse_stl, parse_tetgen_poly, IoError, SurfaceFile,
 };
 
 /// A small xorshift generator: no dependency, same sequence everywhere.
@@ -32,7 +32,7 @@ fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
 
-const PARSERS: [(&str, Parser); 8] = [
+const PARSERS: [(&str, Parser); 9] = [
     ("smesh", |b| parse_smesh(&text(b), Path::new("g.smesh"))),
     ("poly", |b| parse_tetgen_poly(&text(b), Path::new("g.poly"))),
     ("poly any", |b| {
@@ -43,6 +43,8 @@ const PARSERS: [(&str, Parser); 8] = [
     ("obj", |b| parse_obj(&text(b), Path::new("g.obj"))),
     ("mesh", |b| parse_medit(&text(b), Path::new("g.mesh"))),
     ("msh", |b| parse_msh(&text(b), Path::new("g.msh"))),
+    // Binary .msh files are bytes, not text.
+    ("msh bytes", |b| parse_msh_bytes(b, Path::new("g.msh"))),
 ];
 
 /// Valid inputs of every format, the seeds of the mutations.
@@ -68,6 +70,11 @@ fn samples() -> Vec<Vec<u8>> {
         "gmsh_box22.msh",
         "gmsh_box41.msh",
         "gmsh_box41_parametric.msh",
+        "gmsh_box22_binary.msh",
+        "gmsh_box41_binary.msh",
+        "gmsh_box41_parametric_binary.msh",
+        "gmsh_periodic22_binary.msh",
+        "gmsh_periodic41_binary.msh",
         "gmsh_box.mesh",
         "gmsh_box_binary.stl",
     ] {
@@ -197,6 +204,38 @@ fn huge_counts_in_short_files_are_errors_without_allocating() {
     ];
     for (t, parse) in cases {
         assert!(parse(t.as_bytes()).is_err(), "{t:?}");
+    }
+    // Binary .msh files whose counts claim 2^64 - 1 records: nodes of 2.2, node blocks and
+    // nodes, entities, element blocks and elements of 4.1.
+    let format41 = b"$MeshFormat\n4.1 1 8\n\x01\0\0\0\n$EndMeshFormat\n".as_slice();
+    let max = u64::MAX.to_le_bytes();
+    let cases: [Vec<u8>; 6] = [
+        b"$MeshFormat\n2.2 1 8\n\x01\0\0\0\n$EndMeshFormat\n$Nodes\n18446744073709551615\n"
+            .to_vec(),
+        [format41, b"$Nodes\n", &max, &[0; 24]].concat(),
+        [
+            format41,
+            b"$Nodes\n",
+            &1u64.to_le_bytes(),
+            &[0; 24],
+            &[0; 12],
+            &max,
+        ]
+        .concat(),
+        [format41, b"$Entities\n", &max, &max, &max, &max].concat(),
+        [format41, b"$Elements\n", &max, &[0; 24]].concat(),
+        [
+            format41,
+            b"$Elements\n",
+            &1u64.to_le_bytes(),
+            &[0; 24],
+            &[0, 0, 0, 0, 1, 0, 0, 0, 2, 0, 0, 0],
+            &max,
+        ]
+        .concat(),
+    ];
+    for b in cases {
+        assert!(parse_msh_bytes(&b, Path::new("g.msh")).is_err(), "{b:?}");
     }
     // A binary STL header claiming 2^32 - 1 triangles in a 84-byte file.
     let mut b = vec![0u8; 80];

@@ -5,8 +5,8 @@
 use std::path::{Path, PathBuf};
 
 use delmesh_io::{
-    parse_medit, parse_msh, parse_obj, parse_off, parse_stl, read_msh, read_off, read_stl,
-    read_surface, write_off, IoError, SurfaceFile,
+    parse_medit, parse_msh, parse_msh_bytes, parse_obj, parse_off, parse_stl, read_msh, read_off,
+    read_stl, read_surface, write_off, IoError, SurfaceFile,
 };
 
 fn data(name: &str) -> PathBuf {
@@ -718,9 +718,12 @@ fn msh22_tags_and_skipped_elements() {
             "expected '$EndNodes', found '$EndNode'",
         ),
         (
-            MSH22.replace("2.2 0 8", "2.2 1 8"),
-            2,
-            "binary .msh files are not supported",
+            format!(
+                "$Comments\n$EndComments\n{}",
+                MSH22.replace("2.2 0 8", "2.2 1 8")
+            ),
+            4,
+            "a binary .msh file must begin with $MeshFormat",
         ),
         (
             MSH22.replace("2.2 0 8", "4 0 8"),
@@ -876,20 +879,583 @@ fn msh41_entities_map_to_physical_tags() {
     }
 }
 
+// --------------------------------------------------------------------------- gmsh binary
+
+/// The gmsh-written binary files and their ASCII twins (same geometry, same options).
+const BINARY_TWINS: [(&str, &str); 7] = [
+    ("gmsh_box22.msh", "gmsh_box22_binary.msh"),
+    ("gmsh_box41.msh", "gmsh_box41_binary.msh"),
+    (
+        "gmsh_box41_parametric.msh",
+        "gmsh_box41_parametric_binary.msh",
+    ),
+    ("gmsh_box22_order2.msh", "gmsh_box22_order2_binary.msh"),
+    ("gmsh_box41_order2.msh", "gmsh_box41_order2_binary.msh"),
+    ("gmsh_periodic22.msh", "gmsh_periodic22_binary.msh"),
+    ("gmsh_periodic41.msh", "gmsh_periodic41_binary.msh"),
+];
+
+/// The 1-based line of the `$Elements` keyword of a file.
+fn elements_line(bytes: &[u8]) -> usize {
+    let at = bytes
+        .windows(10)
+        .position(|w| w == b"\n$Elements")
+        .expect("an $Elements section");
+    2 + bytes[..at].iter().filter(|&&b| b == b'\n').count()
+}
+
+/// `s` with every facet's line set to 0.
+fn without_lines(mut s: SurfaceFile) -> SurfaceFile {
+    for f in &mut s.facets {
+        f.line = 0;
+    }
+    s
+}
+
+fn point_bits(s: &SurfaceFile) -> Vec<[u64; 3]> {
+    s.points.iter().map(|p| p.map(f64::to_bits)).collect()
+}
+
 #[test]
-fn binary_msh_is_refused_with_a_hint() {
+fn gmsh_binary_files_read_as_their_ascii_twins() {
+    for (ascii, binary) in BINARY_TWINS {
+        let bytes = std::fs::read(data(binary)).unwrap();
+        assert!(bytes.starts_with(b"$MeshFormat\n") && bytes[15..20] == *b" 1 8\n");
+        let mut a = read_msh(&data(ascii)).unwrap();
+        let b = read_msh(&data(binary)).unwrap();
+        // Binary facets carry the line of the `$Elements` keyword.
+        let line = elements_line(&bytes);
+        assert!(b.facets.iter().all(|f| f.line == line), "{binary}");
+        if binary.contains("order2") {
+            // gmsh writes ASCII coordinates with 16 significant digits (`%.16g`), which does
+            // not round-trip every double: some mid-edge nodes are 1 ulp off. The ASCII
+            // values are the binary ones so rounded.
+            assert_ne!(point_bits(&a), point_bits(&b));
+            assert_eq!(a.points.len(), b.points.len());
+            for (p, q) in a.points.iter().zip(&b.points) {
+                for d in 0..3 {
+                    let rounded: f64 = format!("{:.15e}", q[d]).parse().unwrap();
+                    assert_eq!(rounded.to_bits(), p[d].to_bits(), "{binary}: {q:?}");
+                }
+            }
+            a.points.clone_from(&b.points);
+        }
+        assert_eq!(point_bits(&a), point_bits(&b), "{binary}");
+        assert_eq!(without_lines(a), without_lines(b.clone()), "{binary}");
+        // Something was read: the order-2 files give only points (their elements are skipped).
+        assert!(b.points.len() >= 22, "{binary}");
+        if binary.contains("order2") {
+            assert!(b.facets.is_empty() && b.tetrahedra.is_empty());
+        } else if binary == "gmsh_periodic22_binary.msh" {
+            // With Mesh.SaveAll, gmsh writes every 2.2 element once, with physical tag 0.
+            assert_eq!((b.facets.len(), b.tetrahedra.len()), (40, 43));
+            assert!(markers(&b).iter().all(|&m| m == 0));
+            assert!(b.tetrahedron_regions.iter().all(|&r| r == 0));
+        } else {
+            assert_eq!((b.facets.len(), b.tetrahedra.len()), (40, 43), "{binary}");
+            assert_eq!(
+                [7, 8, 9].map(|k| markers(&b).iter().filter(|&&x| x == k).count()),
+                [4, 4, 32],
+                "{binary}"
+            );
+            assert!(b.tetrahedron_regions.iter().all(|&r| r == 3));
+            assert_eq!(b.marker_names.len(), 3);
+        }
+        if binary.contains("periodic") {
+            // The sections and element types skipped are there.
+            let has = |s: &[u8]| bytes.windows(s.len()).any(|w| w == s);
+            assert!(has(b"\n$Periodic\n") && has(b"\n$NodeData\n"), "{binary}");
+        }
+    }
+    // Parametric or not, 2.2 or 4.1: the same mesh.
+    let v22 = read_msh(&data("gmsh_box22_binary.msh")).unwrap();
+    let v41 = read_msh(&data("gmsh_box41_parametric_binary.msh")).unwrap();
+    assert_eq!(point_bits(&v22), point_bits(&v41));
+    assert_eq!(polygons(&v22), polygons(&v41));
+    assert_eq!(v22.tetrahedra, v41.tetrahedra);
+    // read_surface takes them by the extension.
+    assert_eq!(
+        read_surface(&data("gmsh_box41_binary.msh"))
+            .unwrap()
+            .facets
+            .len(),
+        40
+    );
+}
+
+/// The offsets at which a prefix of `bytes` is a complete file: the ends of its `$End` lines
+/// (with or without their newline).
+fn complete_prefixes(bytes: &[u8]) -> Vec<usize> {
+    let mut ends = Vec::new();
+    for (k, w) in bytes.windows(5).enumerate() {
+        if w == b"\n$End" {
+            let len = bytes[k + 1..].iter().position(|&b| b == b'\n').unwrap();
+            ends.push(k + 1 + len);
+            ends.push(k + 2 + len);
+        }
+    }
+    ends
+}
+
+#[test]
+fn truncated_binary_msh_files_are_errors() {
+    for (_, binary) in BINARY_TWINS {
+        let bytes = std::fs::read(data(binary)).unwrap();
+        let complete = complete_prefixes(&bytes);
+        assert!(complete.contains(&bytes.len()));
+        for end in 0..=bytes.len() {
+            let r = parse_msh_bytes(&bytes[..end], Path::new("t.msh"));
+            assert_eq!(
+                r.is_ok(),
+                complete.contains(&end),
+                "{binary} cut at byte {end}: {r:?}"
+            );
+        }
+    }
+}
+
+/// A binary `.msh` file under construction, with the offsets of labelled fields.
+struct Bin {
+    bytes: Vec<u8>,
+    big: bool,
+    size_t: usize,
+    marks: Vec<(&'static str, usize)>,
+}
+
+impl Bin {
+    /// The `$MeshFormat` section of a binary file.
+    fn new(version: &str, big: bool, size_t: usize) -> Bin {
+        let mut b = Bin {
+            bytes: Vec::new(),
+            big,
+            size_t,
+            marks: Vec::new(),
+        };
+        b.text(&format!("$MeshFormat\n{version} 1 {size_t}\n"));
+        b.mark("one");
+        b.int(1);
+        b.text("\n$EndMeshFormat\n");
+        b
+    }
+
+    fn text(&mut self, t: &str) -> &mut Self {
+        self.bytes.extend_from_slice(t.as_bytes());
+        self
+    }
+
+    fn int(&mut self, v: i32) -> &mut Self {
+        let b = if self.big {
+            v.to_be_bytes()
+        } else {
+            v.to_le_bytes()
+        };
+        self.bytes.extend_from_slice(&b);
+        self
+    }
+
+    fn ints(&mut self, v: &[i32]) -> &mut Self {
+        for &x in v {
+            self.int(x);
+        }
+        self
+    }
+
+    fn size(&mut self, v: u64) -> &mut Self {
+        let b = if self.big {
+            v.to_be_bytes()
+        } else {
+            v.to_le_bytes()
+        };
+        let b = if self.big {
+            &b[8 - self.size_t..]
+        } else {
+            &b[..self.size_t]
+        };
+        self.bytes.extend_from_slice(b);
+        self
+    }
+
+    fn sizes(&mut self, v: &[u64]) -> &mut Self {
+        for &x in v {
+            self.size(x);
+        }
+        self
+    }
+
+    fn f64s(&mut self, v: &[f64]) -> &mut Self {
+        for &x in v {
+            let b = if self.big {
+                x.to_be_bytes()
+            } else {
+                x.to_le_bytes()
+            };
+            self.bytes.extend_from_slice(&b);
+        }
+        self
+    }
+
+    fn mark(&mut self, label: &'static str) -> &mut Self {
+        self.marks.push((label, self.bytes.len()));
+        self
+    }
+
+    fn at(&self, label: &str) -> usize {
+        self.marks.iter().find(|m| m.0 == label).unwrap().1
+    }
+
+    /// The 1-based line of a labelled offset.
+    fn line(&self, label: &str) -> usize {
+        1 + self.bytes[..self.at(label)]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+    }
+}
+
+/// [`MSH41`] in binary.
+fn msh41_binary(big: bool, size_t: usize) -> Bin {
+    let mut b = Bin::new("4.1", big, size_t);
+    b.text("$PhysicalNames\n2\n2 4 \"far  field\"\n3 2 \"air\"\n$EndPhysicalNames\n");
+    b.mark("$Entities").text("$Entities\n").sizes(&[1, 0, 2, 1]);
+    b.int(1).f64s(&[0.0; 3]).size(0);
+    b.int(1).f64s(&[0., 0., 0., 1., 1., 0.]);
+    b.mark("surface 1 physicals").size(1).int(4).size(0);
+    b.int(2).f64s(&[0., 0., 0., 1., 0., 1.]).size(0).size(0);
+    b.int(1).f64s(&[0., 0., 0., 1., 1., 1.]);
+    b.size(2).ints(&[2, 1]).size(1).int(1);
+    b.text("\n$EndEntities\n");
+    b.mark("$Nodes").text("$Nodes\n").mark("node counts");
+    b.sizes(&[2, 4, 1, 4]);
+    b.mark("node block 1")
+        .ints(&[3, 1, 0])
+        .mark("node block 1 count");
+    b.size(3)
+        .mark("node tags 1")
+        .size(1)
+        .size(2)
+        .mark("tag 3")
+        .size(3);
+    b.mark("x1").f64s(&[0., 0., 0., 1., 0., 0., 0., 1., 0.]);
+    b.mark("node block 2").ints(&[2, 2, 1]).size(1).size(4);
+    b.f64s(&[0., 0.]).mark("z4").f64s(&[1., 0.5, 0.5]);
+    b.text("\n$EndNodes\n");
+    b.mark("$Elements")
+        .text("$Elements\n")
+        .mark("element blocks");
+    b.sizes(&[3, 3, 1, 3]);
+    b.ints(&[2, 1, 2]).size(1).sizes(&[1, 1, 3, 2]);
+    b.ints(&[2, 2, 2]).size(1).sizes(&[2, 1, 2, 4]);
+    b.mark("block 3")
+        .ints(&[3, 1])
+        .mark("type 3")
+        .int(4)
+        .size(1);
+    b.sizes(&[3, 1, 2, 3]).mark("tet node 4").size(4);
+    b.text("\n$EndElements\n");
+    b
+}
+
+/// [`MSH22`] in binary (one group per element, as gmsh writes them).
+fn msh22_binary(big: bool) -> Bin {
+    let mut b = Bin::new("2.2", big, 8);
+    b.text("$Comments\nanything $Nodes\n$EndComments\n");
+    b.mark("$Nodes")
+        .text("$Nodes\n")
+        .mark("node count")
+        .text("4\n");
+    for (k, (tag, p)) in [
+        (10, [0., 0., 0.]),
+        (20, [1., 0., 0.]),
+        (30, [0., 1., 0.]),
+        (40, [0., 0., 1.]),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        b.mark(["tag 1", "tag 2", "tag 3", "tag 4"][k])
+            .int(tag)
+            .f64s(&p);
+    }
+    b.text("\n$EndNodes\n");
+    b.mark("$Elements").text("$Elements\n4\n");
+    b.mark("group 1").ints(&[15, 1, 2]).ints(&[1, 0, 1, 10]);
+    b.ints(&[1, 1, 2]).ints(&[2, 5, 1, 10, 20]);
+    b.mark("group 3")
+        .ints(&[2, 1, 2])
+        .ints(&[3, 6, 1, 10, 30, 20]);
+    b.mark("group 4").ints(&[4, 1, 0]).ints(&[4, 10, 20, 30]);
+    b.mark("tet node 4").int(40);
+    b.text("\n$EndElements\n");
+    b
+}
+
+fn parse_bin(b: &[u8]) -> Result<SurfaceFile, IoError> {
+    parse_msh_bytes(b, Path::new("b.msh"))
+}
+
+#[test]
+fn binary_msh_both_byte_orders_and_size_t_widths() {
+    let ascii = without_lines(parse_msh(MSH41, Path::new("m.msh")).unwrap());
+    for (big, size_t) in [(false, 8), (true, 8), (false, 4), (true, 4)] {
+        let b = msh41_binary(big, size_t);
+        let s = parse_bin(&b.bytes).unwrap();
+        let line = b.line("$Elements");
+        assert!(s.facets.iter().all(|f| f.line == line));
+        assert_eq!(without_lines(s), ascii, "big endian {big}, size_t {size_t}");
+    }
+    let ascii = without_lines(parse_msh(MSH22, Path::new("m.msh")).unwrap());
+    for big in [false, true] {
+        let s = parse_bin(&msh22_binary(big).bytes).unwrap();
+        assert_eq!(without_lines(s), ascii, "big endian {big}");
+    }
+    // parse_msh takes a binary file that is valid UTF-8 (all bytes < 128) too.
+    let mut b = Bin::new("2.2", false, 8);
+    b.text("$Nodes\n4\n");
+    for (tag, p) in [
+        (1, [0., 0., 0.]),
+        (2, [2., 0., 0.]),
+        (3, [0., 2., 0.]),
+        (4, [0., 0., 2.]),
+    ] {
+        b.int(tag).f64s(&p);
+    }
+    b.text("\n$EndNodes\n$Elements\n1\n")
+        .ints(&[2, 1, 1, 1, 5, 1, 2, 3]);
+    b.text("\n$EndElements\n");
+    let b = b.bytes;
+    let text = String::from_utf8(b.clone()).unwrap();
+    let s = parse_msh(&text, Path::new("m.msh")).unwrap();
+    assert_eq!((polygons(&s), markers(&s)), (vec![vec![0, 1, 2]], vec![5]));
+    assert_eq!(s, parse_bin(&b).unwrap());
+    // read_msh reads binary files.
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("b.msh");
-    let mut bytes = b"$MeshFormat\n4.1 1 8\n".to_vec();
-    bytes.extend_from_slice(&[1, 0, 0, 0, 0xff, 0xfe, b'\n']);
-    bytes.extend_from_slice(b"$EndMeshFormat\n");
-    std::fs::write(&path, bytes).unwrap();
-    let e = read_msh(&path).unwrap_err();
-    assert!(
-        e.to_string()
-            .contains("binary .msh files are not supported: save the mesh as ASCII"),
-        "{e}"
-    );
+    std::fs::write(&path, &b).unwrap();
+    assert_eq!(read_msh(&path).unwrap(), parse_bin(&b).unwrap());
+}
+
+/// `b` with the bytes at `label` replaced.
+fn patched(b: &Bin, label: &str, with: &[u8]) -> Vec<u8> {
+    let at = b.at(label);
+    let mut v = b.bytes.clone();
+    v[at..at + with.len()].copy_from_slice(with);
+    v
+}
+
+#[test]
+fn binary_msh_errors_name_the_byte_and_the_section() {
+    let b41 = msh41_binary(false, 8);
+    let b22 = msh22_binary(false);
+    let nodes41 = format!("(in $Nodes, line {})", b41.line("$Nodes"));
+    let elements41 = format!("(in $Elements, line {})", b41.line("$Elements"));
+    let nodes22 = format!("(in $Nodes, line {})", b22.line("$Nodes"));
+    let elements22 = format!("(in $Elements, line {})", b22.line("$Elements"));
+    let huge = u64::MAX.to_le_bytes();
+    let tet_end = b41.at("tet node 4") + 8;
+    assert_eq!(tet_end + 14, b41.bytes.len());
+    let cases: Vec<(Vec<u8>, usize, String)> = vec![
+        (
+            patched(&b41, "one", &[2, 0, 0, 0]),
+            b41.at("one"),
+            "expected the binary integer 1 (bytes 01 00 00 00 or 00 00 00 01) that gives the \
+             byte order, found bytes 02 00 00 00 (in $MeshFormat, line 1)"
+                .into(),
+        ),
+        (
+            patched(&b41, "node block 1 count", &huge),
+            b41.at("node tags 1"),
+            format!(
+                "18446744073709551615 nodes of 32 bytes take more than 2^64 bytes, but only {} \
+                 bytes are left in the file {nodes41}",
+                b41.bytes.len() - b41.at("node tags 1")
+            ),
+        ),
+        (
+            patched(&b41, "node block 1 count", &(1u64 << 40).to_le_bytes()),
+            b41.at("node tags 1"),
+            format!(
+                "1099511627776 nodes of 32 bytes take 35184372088832 bytes, but only {} bytes \
+                 are left in the file {nodes41}",
+                b41.bytes.len() - b41.at("node tags 1")
+            ),
+        ),
+        (
+            patched(&b41, "surface 1 physicals", &huge),
+            b41.at("surface 1 physicals") + 8,
+            "physical tags of 4 bytes take more than 2^64 bytes".into(),
+        ),
+        (
+            patched(&b41, "z4", &f64::NAN.to_le_bytes()),
+            b41.at("z4"),
+            format!("z coordinate is not finite: NaN {nodes41}"),
+        ),
+        (
+            patched(&b41, "x1", &f64::NEG_INFINITY.to_le_bytes()),
+            b41.at("x1"),
+            format!("x coordinate is not finite: -inf {nodes41}"),
+        ),
+        (
+            patched(&b41, "tag 3", &2u64.to_le_bytes()),
+            b41.at("tag 3"),
+            format!("node tag 2 is defined twice {nodes41}"),
+        ),
+        (
+            patched(&b41, "node block 1", &7i32.to_le_bytes()),
+            b41.at("node block 1"),
+            format!("entity dimension 7 or parametric flag 0 out of range (0-3, 0-1) {nodes41}"),
+        ),
+        (
+            patched(&b41, "tet node 4", &9u64.to_le_bytes()),
+            b41.at("tet node 4"),
+            format!("node 9 is not defined in $Nodes {elements41}"),
+        ),
+        (
+            patched(&b41, "type 3", &76i32.to_le_bytes()),
+            b41.at("block 3"),
+            format!(
+                "element type 76 cannot be read from a binary file: it is not a gmsh element \
+                 type this reader knows, so its size is unknown {elements41}"
+            ),
+        ),
+        (
+            patched(&b41, "type 3", &34i32.to_le_bytes()),
+            b41.at("block 3"),
+            "element type 34 cannot be read from a binary file: its elements (polygons, \
+             polyhedra, X-FEM elements) have no fixed size"
+                .into(),
+        ),
+        // Fewer blocks than written: the `$End` line is not where the counts say.
+        (
+            patched(&b41, "element blocks", &2u64.to_le_bytes()),
+            b41.at("block 3"),
+            format!(
+                "expected '$EndElements', found binary data: the section's counts and its data \
+                 disagree {elements41}"
+            ),
+        ),
+        (
+            b41.bytes[..b41.at("node counts")].to_vec(),
+            b41.at("node counts"),
+            format!("unexpected end of file: expected the number of node blocks {nodes41}"),
+        ),
+        (
+            b41.bytes[..tet_end - 3].to_vec(),
+            b41.at("block 3") + 20,
+            format!(
+                "1 elements of 40 bytes (type 4) take 40 bytes, but only 37 bytes are left in \
+                 the file {elements41}"
+            ),
+        ),
+        (
+            b41.bytes[..b41.at("node block 2") + 6].to_vec(),
+            b41.at("node block 2") + 4,
+            format!("unexpected end of file: expected the entity tag of a node block {nodes41}"),
+        ),
+        (
+            [&b41.bytes[..], b"$NodeData\n1\n\"x\"\n"].concat(),
+            b41.bytes.len() + 16,
+            format!(
+                "unexpected end of file: expected '$EndNodeData' (in $NodeData, line {})",
+                b41.line("$Elements") + 3
+            ),
+        ),
+        (
+            [
+                &b22.bytes[..b22.at("node count")],
+                b"99\n",
+                &b22.bytes[b22.at("node count") + 2..],
+            ]
+            .concat(),
+            b22.at("node count") + 3,
+            format!(
+                "99 nodes of 28 bytes take 2772 bytes, but only {} bytes are left in the file \
+                 {nodes22}",
+                b22.bytes.len() - b22.at("node count") - 2
+            ),
+        ),
+        (
+            patched(&b22, "tag 2", &(-20i32).to_le_bytes()),
+            b22.at("tag 2"),
+            format!("negative node tag -20 {nodes22}"),
+        ),
+        (
+            patched(&b22, "group 3", &[2, 0, 0, 0, 9, 0, 0, 0]),
+            b22.at("group 3"),
+            format!(
+                "an element group of 9 elements, but 2 of the section's 4 are left {elements22}"
+            ),
+        ),
+        (
+            patched(&b22, "group 1", &76i32.to_le_bytes()),
+            b22.at("group 1"),
+            "element type 76 cannot be read from a binary file".into(),
+        ),
+        (
+            patched(&b22, "tet node 4", &(-40i32).to_le_bytes()),
+            b22.at("tet node 4"),
+            format!("node -40 is not defined in $Nodes {elements22}"),
+        ),
+    ];
+    for (bytes, offset, message) in cases {
+        let (o, m) = binary_error(parse_bin(&bytes));
+        assert!(
+            o == offset as u64 && m.contains(&message),
+            "expected byte {offset}: {message}\n     got byte {o}: {m}"
+        );
+    }
+
+    // The text lines of a binary file give line-numbered errors.
+    let text_cases: Vec<(Vec<u8>, usize, &str)> = vec![
+        (
+            Bin::new("2.2", false, 4).bytes,
+            2,
+            "data size 4 in a binary version 2 file: only 8 (the size of a double) is read",
+        ),
+        (
+            Bin::new("4.1", false, 16).bytes,
+            2,
+            "data size 16 in a binary version 4.1 file: only 4 and 8",
+        ),
+        (
+            Bin::new("4.0", false, 8).bytes,
+            2,
+            "gmsh format 4.0 is not supported: save the mesh in format 4.1 or 2.2",
+        ),
+        (
+            patched(&b22, "node count", b"x\n"),
+            b22.line("node count"),
+            "expected a non-negative integer for the number of nodes, found 'x'",
+        ),
+        (
+            [&Bin::new("2.2", false, 8).bytes[..], b"$Entities\n"].concat(),
+            5,
+            "$Entities in a version 2 file",
+        ),
+        (
+            [
+                &Bin::new("4.1", false, 8).bytes[..],
+                b"$PhysicalNames\n1\n2 4 far\n$EndPhysicalNames\n",
+            ]
+            .concat(),
+            7,
+            "physical name in '2 4 far' is not quoted",
+        ),
+        (
+            [&Bin::new("4.1", false, 8).bytes[..], b"\nhello\n"].concat(),
+            6,
+            "expected a section such as $MeshFormat, $Nodes or $Elements, found 'hello'",
+        ),
+    ];
+    for (bytes, line, message) in text_cases {
+        let (l, m) = parse_error(parse_bin(&bytes));
+        assert!(
+            l == line && m.contains(message),
+            "expected {line}: {message}\n     got {l}: {m}"
+        );
+    }
+    // A tiny valid file: the format alone.
+    let s = parse_bin(&Bin::new("4.1", true, 8).bytes).unwrap();
+    assert!(s.points.is_empty() && s.facets.is_empty());
 }
 
 // ------------------------------------------------------------------------- by extension
