@@ -55,6 +55,9 @@ pub struct Plc3 {
     /// How the source numbers points and facets (0 or 1), so that error messages name them as
     /// the user's file does.
     pub first_index: u32,
+    /// Names of facet markers (gmsh physical names), for the outputs that name their groups;
+    /// recovery does not read them.
+    pub marker_names: Vec<(i32, String)>,
 }
 
 impl Plc3 {

@@ -115,6 +115,9 @@ pub struct MeshRun3 {
     pub quality: QualityReport3,
     /// Seconds spent in each stage, in order.
     pub timings: Vec<(&'static str, f64)>,
+    /// The input's names of facet markers ([`Plc3::marker_names`]), written where a format
+    /// names its groups (gmsh physical names).
+    pub marker_names: Vec<(i32, String)>,
 }
 
 /// Runs the pipeline on `plc`.
@@ -204,6 +207,7 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
         quality_before_smoothing,
         quality,
         timings,
+        marker_names: plc.marker_names.clone(),
     })
 }
 
@@ -234,6 +238,7 @@ pub fn restore_delaunay(
         holes: plc.holes.clone(),
         regions: plc.regions.clone(),
         first_index: plc.first_index,
+        marker_names: Vec::new(),
     };
     // The domain's side of each boundary triangle, from the tetrahedron on it.
     let mut opposite: HashMap<[u32; 3], u32> = HashMap::with_capacity(2 * arrays.faces.len());
@@ -379,6 +384,7 @@ pub fn plc3_from_surface(surface: &SurfaceFile, path: &Path) -> Result<Plc3, Err
         message: e.to_string(),
     })?;
     plc.point_markers = surface.point_markers.clone().unwrap_or_default();
+    plc.marker_names = surface.marker_names.clone();
     plc.holes = surface.holes.clone();
     plc.regions = surface
         .regions
@@ -403,6 +409,11 @@ impl MeshRun3 {
     /// An unsupported extension, or a file that cannot be written.
     pub fn write(&self, out: &Path) -> Result<Vec<PathBuf>, Error> {
         let a = &self.arrays;
+        let names: Vec<(i32, &str)> = self
+            .marker_names
+            .iter()
+            .map(|(m, n)| (*m, n.as_str()))
+            .collect();
         let mesh = TetMeshOut {
             coords: &a.coords,
             tets: &a.tets,
@@ -410,7 +421,7 @@ impl MeshRun3 {
             faces: &a.faces,
             face_markers: &a.face_markers,
             point_markers: Some(&a.point_markers),
-            marker_names: &[],
+            marker_names: &names,
         };
         match extension(out).as_str() {
             "vtu" => {

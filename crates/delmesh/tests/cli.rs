@@ -952,3 +952,27 @@ fn mesh_with_spacing_sources() {
         assert!(!dir.path().join("bad.vtu").exists());
     }
 }
+
+#[test]
+fn a_binary_gmsh_surface_meshes_as_its_ascii_twin() {
+    // The same gmsh 4.15 mesh of a 2 x 1 x 1 box saved as binary and as ASCII (io's test
+    // data): the same points bit for bit, so the same mesh, physical groups and all.
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../io/tests/data");
+    let dir = tempfile::tempdir().unwrap();
+    for (input, out) in [
+        ("gmsh_box41.msh", "a.msh"),
+        ("gmsh_box41_binary.msh", "b.msh"),
+    ] {
+        let input = data.join(input);
+        ok(&delmesh(
+            dir.path(),
+            &["mesh", input.to_str().unwrap(), "-o", out, "--validate"],
+        ));
+    }
+    let (a, b) = (
+        std::fs::read_to_string(dir.path().join("a.msh")).unwrap(),
+        std::fs::read_to_string(dir.path().join("b.msh")).unwrap(),
+    );
+    assert_eq!(a, b);
+    assert!(a.contains("\"inlet\"") && a.contains("\"walls\""), "{a}");
+}
