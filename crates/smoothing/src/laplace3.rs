@@ -6,12 +6,14 @@
 //! of its volume; otherwise it is halved, up to [`MAX_HALVINGS`] times, then skipped.
 //! The face opposite the moving point is fixed, so a tetrahedron's volume is linear in the
 //! point's position: one dot product with that face's normal per tetrahedron. The star's
-//! tetrahedra are gathered once per move and tested [`LANES`] at a time (vector instructions)
-//! with the expressions of the one-by-one test; the floating-point volume decides the sign
-//! only where its error bound ([`VOLUME_ERRBOUND`]) certifies it, else exact `orient3d` does,
-//! and a tetrahedron below the angle floor goes to the one-by-one guard. The decisions are
-//! those of testing each tetrahedron in full (a unit test compares them), in about 0.69 of the
-//! time per pass (`cargo bench --bench smoothing3 -- floor20`: 140 ms against 203 ms).
+//! tetrahedra are gathered at most once per move, a group when a trial first needs it, and
+//! tested [`LANES`] at a time (vector instructions) with the expressions of the one-by-one
+//! test; the floating-point volume decides the sign only where its error bound
+//! ([`VOLUME_ERRBOUND`]) certifies it, else exact `orient3d` does, and a tetrahedron below the
+//! angle floor goes to the one-by-one guard. A trial starts with the group that refused the
+//! last one. The decisions are those of testing each tetrahedron in full (a unit test
+//! compares them), in about 0.69 of the time per pass (`cargo bench --bench smoothing3 --
+//! floor20`: 140 ms against 203 ms, before the last two changes).
 //!
 //! Laplacian smoothing in 3D also makes *slivers*: four nearly coplanar points, a flat
 //! tetrahedron with dihedral angles near 0° and 180° but a fine radius–edge ratio, which the
@@ -403,7 +405,7 @@ impl Smoother3 {
         if faces.is_empty() {
             return (None, 0.0);
         }
-        gather(points, faces, x, lanes);
+        make_room(faces, lanes);
         let face_points = |f: &[u32; 3]| f.map(|i| points[i as usize]);
         // The cosine of the smallest dihedral angle of each tetrahedron of the star now, and of
         // the star: only needed when a trial tetrahedron falls below the floor, so computed
@@ -450,6 +452,9 @@ impl Smoother3 {
             // The group that refused the last trial is tried first (the same tetrahedron
             // usually refuses the halved step too); the answer does not depend on the order.
             let ok = (first..lanes.len()).chain(0..first).all(|k| {
+                if !lanes[k].ready {
+                    lanes[k].gather(points, faces, x, k);
+                }
                 let t = lanes[k].trial(y, guard);
                 let real = |j: usize| k * LANES + j < faces.len();
                 let (mut kept, mut settled) = (true, true);
@@ -529,6 +534,8 @@ struct Group {
     weight: [Lanes; 3],
     /// [`VOLUME_KEEP`] times the volume (times six) with the point where it is.
     keep: Lanes,
+    /// Gathered for the current move.
+    ready: bool,
 }
 
 /// The lanes' answers for one trial position.
@@ -541,31 +548,40 @@ struct Trial {
     floor: [bool; LANES],
 }
 
-/// The star's tetrahedra (`faces` opposite `x`) in groups of [`LANES`]; the lanes past the last
-/// repeat the first tetrahedron (the caller does not count them).
-fn gather(points: &[P3], faces: &[[u32; 3]], x: P3, out: &mut Vec<Group>) {
-    out.clear();
+/// Room for the star's tetrahedra (`faces`) in groups of [`LANES`], none gathered yet: a group
+/// is gathered when a trial first needs it ([`Group::gather`]), so a move refused by an early
+/// group never loads the points of the others.
+fn make_room(faces: &[[u32; 3]], out: &mut Vec<Group>) {
     out.resize(faces.len().div_ceil(LANES), Group::default());
-    for k in 0..out.len() * LANES {
-        let f = faces[if k < faces.len() { k } else { 0 }];
-        let [a, b, c] = f.map(|i| points[i as usize]);
-        let (s, t) = (sub(b, a), sub(c, a));
-        let n = cross(s, t);
-        let weight = [
-            (s[1] * t[2]).abs() + (s[2] * t[1]).abs(),
-            (s[2] * t[0]).abs() + (s[0] * t[2]).abs(),
-            (s[0] * t[1]).abs() + (s[1] * t[0]).abs(),
-        ];
-        let (g, j) = (&mut out[k / LANES], k % LANES);
-        for d in 0..3 {
-            (g.a[d][j], g.b[d][j], g.c[d][j]) = (a[d], b[d], c[d]);
-            (g.n[d][j], g.weight[d][j]) = (n[d], weight[d]);
-        }
-        g.keep[j] = VOLUME_KEEP * dot(sub(a, x), n);
+    for g in out.iter_mut() {
+        g.ready = false;
     }
 }
 
 impl Group {
+    /// Group `k` of the star's tetrahedra (`faces` opposite `x`); the lanes past the last
+    /// tetrahedron repeat the first one (the caller does not count them).
+    fn gather(&mut self, points: &[P3], faces: &[[u32; 3]], x: P3, k: usize) {
+        for j in 0..LANES {
+            let i = k * LANES + j;
+            let f = faces[if i < faces.len() { i } else { 0 }];
+            let [a, b, c] = f.map(|i| points[i as usize]);
+            let (s, t) = (sub(b, a), sub(c, a));
+            let n = cross(s, t);
+            let weight = [
+                (s[1] * t[2]).abs() + (s[2] * t[1]).abs(),
+                (s[2] * t[0]).abs() + (s[0] * t[2]).abs(),
+                (s[0] * t[1]).abs() + (s[1] * t[0]).abs(),
+            ];
+            for d in 0..3 {
+                (self.a[d][j], self.b[d][j], self.c[d][j]) = (a[d], b[d], c[d]);
+                (self.n[d][j], self.weight[d][j]) = (n[d], weight[d]);
+            }
+            self.keep[j] = VOLUME_KEEP * dot(sub(a, x), n);
+        }
+        self.ready = true;
+    }
+
     /// The tests of the group's tetrahedra with the point moved to `y`, with the very
     /// expressions of the one-by-one tests (`dot`, `cross`, `worst_cos_at_most`).
     #[inline(always)]
