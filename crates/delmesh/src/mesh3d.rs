@@ -47,9 +47,10 @@ pub enum Spacing3 {
 /// Smoothing passes of the 3D pipeline. Below the paper's 20–50: the Delaunay restoration that
 /// follows smoothing re-triangulates the points, so what counts is where the points end up. On
 /// the double ellipsoid (`figure9`, `--example pipeline3d -- figure9 --iterations N`) the final
-/// mesh after 0, 2, 4, 6, 10 and 30 passes has 499, 192, 183, 176, 163 and 161 slivers
-/// (dihedral < 5°) and a mean smallest dihedral of 42.66°, 44.17°, 44.71°, 44.89°, 44.99° and
-/// 44.97° (at c50a56e): four passes get most of it, in about half the time of ten.
+/// mesh after 0, 2, 4, 6, 10 and 30 passes has 419, 175, 145, 159, 165 and 171 slivers
+/// (dihedral < 5°) and a mean smallest dihedral of 42.83°, 44.24°, 44.76°, 44.95°, 45.04° and
+/// 45.02° (at c394b6b, α = 0.57; at c50a56e, α = 0.55: 499, 192, 183, 176, 163, 161 slivers):
+/// four passes get most of it, in about half the time of ten.
 pub const SMOOTHING_PASSES: usize = 4;
 
 /// Options of the 3D pipeline; `Default` is the paper's method with its usual parameters.
