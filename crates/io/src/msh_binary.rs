@@ -770,15 +770,12 @@ impl<'a> Reader<'a> {
             let n = self.size("the number of elements of a block")?;
             let nn = self.element_nodes(ty, at)?;
             let record = self.size_t * (1 + nn);
-            self.need(
-                n,
-                record,
-                &format!("elements of {record} bytes (type {ty})"),
-            )?;
+            let what = format!("elements of {record} bytes (type {ty})");
             if corners(ty.into()).is_none() {
-                self.pos += (n * record as u64) as usize;
+                self.skip(n, record, &what)?;
                 continue;
             }
+            self.need(n, record, &what)?;
             for _ in 0..n {
                 self.size("an element tag")?;
                 let nodes = self.element(nn, self.size_t, data)?;
