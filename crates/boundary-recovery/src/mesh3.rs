@@ -1,9 +1,21 @@
 //! What a [`Mesh3`] reports: its elements (the tetrahedra inside the domain), their volume, and
 //! flat arrays for writers and for smoothing.
 
+use std::collections::HashMap;
+
 use crate::classify::OUTSIDE;
-use crate::recovery3::Mesh3;
-use delmesh_delaunay_core::{CellId, VertexId};
+use crate::recovery3::{BoundaryFace, Mesh3};
+use delmesh_delaunay_core::{CellId, TriangulationError, VertexId};
+
+/// Where each boundary face of a [`Mesh3`] is in [`Mesh3::faces`], by its sorted corners: for
+/// [`Mesh3::split_edge`], which keeps it up to date.
+#[derive(Clone, Debug, Default)]
+pub struct FaceIndex(HashMap<[VertexId; 3], usize>);
+
+fn sorted(mut v: [VertexId; 3]) -> [VertexId; 3] {
+    v.sort_unstable();
+    v
+}
 
 /// A tetrahedral mesh as flat arrays, vertices renumbered: input points first in input order,
 /// then the points added by recovery and generation in order of creation. Vertices used by no
@@ -72,6 +84,62 @@ impl Mesh3 {
                 )
             })
             .sum()
+    }
+
+    /// The index of [`Self::faces`] that [`Self::split_edge`] needs.
+    pub fn face_index(&self) -> FaceIndex {
+        FaceIndex(
+            self.faces
+                .iter()
+                .enumerate()
+                .map(|(k, f)| (sorted(f.v), k))
+                .collect(),
+        )
+    }
+
+    /// Splits the edge `x y` at its mid-point (see
+    /// [`delmesh_delaunay_core::ConstrainedTriangulation3::split_edge`]): a boundary edge splits
+    /// the boundary faces on it, which keep their marker and facet, and its new vertex is on
+    /// the surface. Returns the new vertex, or `None` (nothing changed) where the edge cannot
+    /// be split so.
+    ///
+    /// # Errors
+    /// A mid-point outside the triangulation's coordinate range.
+    pub fn split_edge(
+        &mut self,
+        x: VertexId,
+        y: VertexId,
+        index: &mut FaceIndex,
+    ) -> Result<Option<VertexId>, TriangulationError> {
+        let tri = self.ct.triangulation();
+        let (a, b) = (tri.vertex(x), tri.vertex(y));
+        let mid = [0, 1, 2].map(|k| 0.5 * (a[k] + b[k]));
+        let Some((v, split)) = self.ct.split_edge(x, y, mid)? else {
+            return Ok(None);
+        };
+        let at = |values: &[f64], u: VertexId| values.get(u.index()).copied().unwrap_or(f64::NAN);
+        let h = 0.5 * (at(&self.spacing, x) + at(&self.spacing, y));
+        let n = v.index() + 1;
+        self.spacing.resize(n.max(self.spacing.len()), f64::NAN);
+        self.on_surface.resize(n.max(self.on_surface.len()), false);
+        self.spacing[v.index()] = h;
+        self.on_surface[v.index()] = !split.is_empty();
+        for w in split {
+            let Some(k) = index.0.remove(&sorted([x, y, w])) else {
+                continue;
+            };
+            let f = self.faces[k];
+            // The face's corners from the edge's first end in the face's order: (u, u2, o).
+            let first = (0..3)
+                .find(|&i| f.v[(i + 2) % 3] == w)
+                .expect("w is a corner of the face");
+            let (u, u2, o) = (f.v[first], f.v[(first + 1) % 3], w);
+            self.faces[k] = BoundaryFace { v: [u, v, o], ..f };
+            index.0.insert(sorted([u, v, o]), k);
+            index.0.insert(sorted([v, u2, o]), self.faces.len());
+            self.faces.push(BoundaryFace { v: [v, u2, o], ..f });
+        }
+        Ok(Some(v))
     }
 
     /// The mesh as flat arrays (see [`MeshArrays3`]).

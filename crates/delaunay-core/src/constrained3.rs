@@ -9,13 +9,15 @@
 //! it (which a non-convex boundary can cause) is refused instead of inserted.
 //!
 //! The result is always a valid, boundary-conforming tetrahedralisation, but next to protected
-//! faces it is not always constrained Delaunay: a new cell on a protected face may hold in its
-//! circumsphere a vertex that the face hid from the cell it replaces. Refusing such points
-//! refuses most candidates near the boundary (the paper met the same problem: 725 rejected
-//! points on its double ellipsoid), so the 3D pipeline instead restores the Delaunay property
-//! at the end, by triangulating the final points again and recovering the refined surface.
-//! [`Self::validate`] checks the constrained Delaunay property (true right after recovery);
-//! [`Self::validate_structure`] everything else.
+//! faces it is not always constrained Delaunay: where a cavity fills the wedge between two
+//! protected faces at their edge, the two new cells on them share a face that can fail the
+//! insphere test. Refusing such points refuses most candidates near the boundary early on
+//! (later insertions usually mend those faces; the paper met the same problem: 725 rejected
+//! points on its double ellipsoid). The 3D pipeline instead restores the property at the end,
+//! by flips ([`Self::make_delaunay`], module `flip3`) and, where flips cannot mend a face,
+//! by splitting an edge ([`Self::split_edge`]). [`Self::validate`] checks the constrained
+//! Delaunay property (true right after recovery); [`Self::validate_structure`] everything
+//! else.
 //!
 //! Each cell carries a `u32` tag (mesh generation's region); new cells take the tag of the cell
 //! the point was found in, which is the cavity's, since cavities never leave a region.
@@ -33,11 +35,11 @@ use crate::triangulation::{Location, Triangulation};
 /// [`Self::insert_if`].
 #[derive(Clone, Debug)]
 pub struct ConstrainedTriangulation3 {
-    tri: Triangulation<D3>,
+    pub(crate) tri: Triangulation<D3>,
     /// Per cell slot, bit `i`: the face opposite local vertex `i` is protected.
-    protected: Vec<u8>,
+    pub(crate) protected: Vec<u8>,
     /// Per cell slot: the caller's tag.
-    tags: Vec<u32>,
+    pub(crate) tags: Vec<u32>,
     /// Marks for star searches.
     stars: StarSearch,
 }
@@ -173,7 +175,7 @@ impl ConstrainedTriangulation3 {
         let tag = self.tags[c.index()];
         let input = self.tri.vertex_of_input.len() as u32;
         let protected = &self.protected;
-        let Some(v) = self.tri.insert_blocked(p, input, c, |f| {
+        let Some(v) = self.tri.insert_blocked(p, input, &[c], |f| {
             (protected[f.cell().index()] >> f.facet()) & 1 != 0
         }) else {
             return Ok(None);
@@ -193,7 +195,118 @@ impl ConstrainedTriangulation3 {
         Ok(Some(v))
     }
 
-    /// The cells made by the last successful [`Self::insert_if`].
+    /// Inserts `point` (caller's coordinates: a point of the edge `x y`, such as its
+    /// mid-point) as a new vertex that splits the edge. The cavity holds every cell around the
+    /// edge and grows by the insphere test, never across a protected face that does not hold
+    /// the edge; each protected face `x y w` becomes the two protected faces `x v w` and
+    /// `v y w`. New cells take the tag of the cell they replace. Returns the new vertex and the
+    /// third vertex `w` of each protected face split, or `None` (nothing changed) when `x y` is
+    /// not an edge, is on the hull, or the cavity is not star-shaped from the point.
+    ///
+    /// # Errors
+    /// A non-finite coordinate or one outside the range of the triangulation.
+    pub fn split_edge(
+        &mut self,
+        x: VertexId,
+        y: VertexId,
+        point: [f64; 3],
+    ) -> Result<Option<(VertexId, Vec<VertexId>)>, TriangulationError> {
+        let p = self.tri.scaled_input(point)?;
+        let n = self.tri.num_vertices();
+        if x == y || x.is_ghost() || y.is_ghost() || x.index() >= n || y.index() >= n {
+            return Ok(None);
+        }
+        let around = self.cells_around_edge(x, y);
+        if around.is_empty() || around.iter().any(|&c| self.tri.is_ghost(c)) {
+            return Ok(None);
+        }
+        // The protected faces holding the edge, by their third vertex, and the faces of the
+        // cells around the edge that hold it (the cavity crosses those).
+        let mut split = Vec::new();
+        let mut holding = Vec::new();
+        for &c in &around {
+            let v = self.tri.simplices[c.index()].v;
+            for i in 0..4 {
+                if v[i] == x || v[i] == y {
+                    continue;
+                }
+                holding.push(FacetRef::new(c, i));
+                if self.is_protected(c, i) {
+                    let w = (0..4)
+                        .map(|k| v[k])
+                        .find(|&u| u != x && u != y && u != v[i])
+                        .unwrap_or(VertexId::GHOST);
+                    split.push(w);
+                }
+            }
+        }
+        split.sort_unstable();
+        split.dedup();
+        // The cavity must not take every cell around an edge `x w` or `y w` of a split face,
+        // or the halves of that face would not be faces: the conflict search does not cross
+        // the faces around those edges, and the cavity may cross them only to be star-shaped.
+        let mut keep = Vec::new();
+        let mut around_halves = Vec::new();
+        for &w in &split {
+            for end in [x, y] {
+                let cells = self.cells_around_edge(end, w);
+                for &c in &cells {
+                    let v = self.tri.simplices[c.index()].v;
+                    for (i, &u) in v.iter().enumerate() {
+                        if u != end && u != w {
+                            around_halves.push(FacetRef::new(c, i));
+                        }
+                    }
+                }
+                keep.push(cells);
+            }
+        }
+        let input = self.tri.vertex_of_input.len() as u32;
+        let protected = &self.protected;
+        let blocked = |f: FacetRef| {
+            (protected[f.cell().index()] >> f.facet()) & 1 != 0 && !holding.contains(&f)
+        };
+        let avoided = |f: FacetRef| around_halves.contains(&f) && !holding.contains(&f);
+        let Some(v) = self
+            .tri
+            .insert_star_shaped(p, input, &around, blocked, avoided, &keep)
+        else {
+            return Ok(None);
+        };
+        self.tri.vertex_of_input.push(v);
+        let cavity = &self.tri.cavity;
+        // The tags of the replaced cells, read before their slots are written again.
+        let tags: Vec<u32> = cavity.inside.iter().map(|c| self.tags[c.index()]).collect();
+        let n = self.tri.simplices.len();
+        self.protected.resize(n, 0);
+        self.tags.resize(n, 0);
+        for ((b, &c), &tag) in cavity.boundary.iter().zip(&cavity.new_cells).zip(&tags) {
+            let outside = b.outside;
+            let bit = (self.protected[outside.cell().index()] >> outside.facet()) & 1;
+            self.protected[c.index()] = bit << b.apex;
+            self.tags[c.index()] = tag;
+        }
+        for &w in &split {
+            for (a, b) in [(x, v), (v, y)] {
+                let found = self.find_face(a, b, w);
+                debug_assert!(found.is_some(), "a half of a split face is a face");
+                if let Some(f) = found {
+                    self.protect(f);
+                }
+            }
+        }
+        Ok(Some((v, split)))
+    }
+
+    /// The cells holding both `a` and `b`.
+    fn cells_around_edge(&mut self, a: VertexId, b: VertexId) -> Vec<CellId> {
+        let mut star = Vec::new();
+        self.stars.star(&self.tri, a, &mut star);
+        star.retain(|&c| self.tri.simplices[c.index()].v.contains(&b));
+        star
+    }
+
+    /// The cells made by the last successful [`Self::insert_if`] or [`Self::split_edge`].
     pub fn last_new_cells(&self) -> &[CellId] {
         &self.tri.cavity.new_cells
     }
@@ -236,7 +349,7 @@ impl ConstrainedTriangulation3 {
                 }
             }
         }
-        self.tri.validate_skipping(|c, i| self.is_protected(c, i))
+        Ok(())
     }
 }
 

@@ -94,6 +94,9 @@ pub(crate) struct Cavity {
     pub(crate) new_cells: Vec<CellId>,
     /// Every cell whose mark a blocked cavity search set (see `insert_blocked`).
     touched: Vec<CellId>,
+    /// For a blocked insertion, the cavity cell each boundary facet belongs to (the cell the
+    /// new cell on it replaces), in the order of `boundary`.
+    pub(crate) inside: Vec<CellId>,
 }
 
 /// Cavity search marks: not visited, in conflict, tested and not in conflict.
@@ -633,17 +636,20 @@ impl<D: Dim> Triangulation<D> {
 
     /// Bowyer–Watson insertion of the internal point `p` whose cavity never crosses a facet
     /// for which `blocked` is true (a protected boundary face): the insertion step of a
-    /// constrained triangulation. `start` is the finite cell containing `p` (from a walk). If
+    /// constrained triangulation. `starts` are in the cavity whatever the test says: the finite
+    /// cell containing `p` (from a walk), or the cells around an edge `p` splits. If
     /// `p` does not see every boundary facet of that cavity strictly (it lies on a blocked
     /// facet, a blocked facet of a non-convex boundary faces away from it, or the cavity
     /// reaches both sides of a blocked facet), nothing changes and `None` is returned:
-    /// shrinking the cavity instead would leave cells whose circumsphere holds `p`. After success, `self.cavity.boundary[k]` is the facet
-    /// `self.cavity.new_cells[k]` was built on, for the caller's per-cell data.
+    /// shrinking the cavity instead would leave cells whose circumsphere holds `p`. After
+    /// success, `self.cavity.boundary[k]` is the facet `self.cavity.new_cells[k]` was built on,
+    /// and `self.cavity.inside[k]` the cavity cell it belonged to (now freed), for the caller's
+    /// per-cell data.
     pub(crate) fn insert_blocked(
         &mut self,
         p: D::Point,
         input: u32,
-        start: CellId,
+        starts: &[CellId],
         blocked: impl Fn(FacetRef) -> bool,
     ) -> Option<VertexId> {
         let mut cavity = std::mem::take(&mut self.cavity);
@@ -651,12 +657,17 @@ impl<D: Dim> Triangulation<D> {
         cavity.cells.clear();
         cavity.stack.clear();
         cavity.boundary.clear();
+        cavity.inside.clear();
         let v = VertexId(self.input_index.len() as u32);
-        cavity.stack.push(start);
-        cavity.cells.push(start);
-        cavity.touched.push(start);
-        self.mark[start.index()] = INSIDE;
         let mut star_shaped = true;
+        for &start in starts {
+            if self.mark[start.index()] != INSIDE {
+                cavity.stack.push(start);
+                cavity.cells.push(start);
+                cavity.touched.push(start);
+                self.mark[start.index()] = INSIDE;
+            }
+        }
         'search: while let Some(c) = cavity.stack.pop() {
             let cell = self.simplices[c.index()];
             for f in 0..D::C {
@@ -696,6 +707,129 @@ impl<D: Dim> Triangulation<D> {
                     apex: f as u8,
                     outside: across,
                 });
+                cavity.inside.push(c);
+            }
+        }
+        for &c in &cavity.touched {
+            self.mark[c.index()] = UNSEEN;
+        }
+        if !star_shaped {
+            self.cavity = cavity;
+            return None;
+        }
+        for &c in &cavity.cells {
+            self.mark[c.index()] = INSIDE;
+        }
+        self.cavity = cavity;
+        let pushed = self.push_vertex(p, input);
+        debug_assert_eq!(pushed, v);
+        self.fill_cavity();
+        Some(v)
+    }
+
+    /// [`Self::insert_blocked`] for a point whose conflict region need not be star-shaped from
+    /// it: the cells around it are not all Delaunay (a constrained mesh being repaired), or a
+    /// rounded point lies just beyond a nearly flat cell that must be in the cavity. Where the
+    /// new cell on a boundary facet would not be positive and the facet is not blocked, the
+    /// cell beyond it joins the cavity. The conflict search crosses neither `blocked` nor
+    /// `avoided` facets; the growth crosses `avoided` ones where it must. If a blocked or hull
+    /// facet faces away from `p`, the cavity reaches both sides of a blocked facet, or it takes
+    /// every cell of one of the groups `keep_one_of` (the cells around an edge that must stay),
+    /// nothing changes and `None` is returned.
+    pub(crate) fn insert_star_shaped(
+        &mut self,
+        p: D::Point,
+        input: u32,
+        starts: &[CellId],
+        blocked: impl Fn(FacetRef) -> bool,
+        avoided: impl Fn(FacetRef) -> bool,
+        keep_one_of: &[Vec<CellId>],
+    ) -> Option<VertexId> {
+        let mut cavity = std::mem::take(&mut self.cavity);
+        cavity.touched.clear();
+        cavity.cells.clear();
+        cavity.stack.clear();
+        cavity.boundary.clear();
+        cavity.inside.clear();
+        let v = VertexId(self.input_index.len() as u32);
+        for &start in starts {
+            if self.mark[start.index()] != INSIDE {
+                cavity.stack.push(start);
+                cavity.cells.push(start);
+                cavity.touched.push(start);
+                self.mark[start.index()] = INSIDE;
+            }
+        }
+        // The conflict region, not crossing blocked facets.
+        while let Some(c) = cavity.stack.pop() {
+            let cell = self.simplices[c.index()];
+            for f in 0..D::C {
+                let n = cell.n[f].cell();
+                let facet = FacetRef::new(c, f);
+                if self.mark[n.index()] != UNSEEN || blocked(facet) || avoided(facet) {
+                    continue;
+                }
+                cavity.touched.push(n);
+                if self.in_conflict(n, p) {
+                    self.mark[n.index()] = INSIDE;
+                    cavity.cells.push(n);
+                    cavity.stack.push(n);
+                } else {
+                    self.mark[n.index()] = OUTSIDE;
+                }
+            }
+        }
+        // Grown until star-shaped: a cell beyond a facet that faces away from `p` joins (and is
+        // scanned in turn, since it is appended).
+        let mut star_shaped = true;
+        let mut k = 0;
+        'grow: while k < cavity.cells.len() {
+            let c = cavity.cells[k];
+            k += 1;
+            let cell = self.simplices[c.index()];
+            let finite = !cell.v[..D::C].contains(&VertexId::GHOST);
+            for f in 0..D::C {
+                let n = cell.n[f].cell();
+                let is_blocked = blocked(FacetRef::new(c, f));
+                if self.mark[n.index()] == INSIDE {
+                    if is_blocked {
+                        star_shaped = false;
+                        break 'grow;
+                    }
+                    continue;
+                }
+                if finite && D::orient_replacing(&self.points, &cell.v, f, p) != Sign::Positive {
+                    if is_blocked || self.is_ghost(n) {
+                        star_shaped = false;
+                        break 'grow;
+                    }
+                    if self.mark[n.index()] == UNSEEN {
+                        cavity.touched.push(n);
+                    }
+                    self.mark[n.index()] = INSIDE;
+                    cavity.cells.push(n);
+                }
+            }
+        }
+        star_shaped &= keep_one_of
+            .iter()
+            .all(|group| group.iter().any(|c| self.mark[c.index()] != INSIDE));
+        if star_shaped {
+            for &c in &cavity.cells {
+                let cell = self.simplices[c.index()];
+                for f in 0..D::C {
+                    let across = cell.n[f];
+                    if self.mark[across.cell().index()] != INSIDE {
+                        let mut vertices = cell.v;
+                        vertices[f] = v;
+                        cavity.boundary.push(BoundaryFacet {
+                            vertices,
+                            apex: f as u8,
+                            outside: across,
+                        });
+                        cavity.inside.push(c);
+                    }
+                }
             }
         }
         for &c in &cavity.touched {

@@ -23,6 +23,7 @@ use delmesh_boundary_recovery::{
     BoundaryRecovery3, Mesh3, MeshArrays3, Plc3, PolygonFacet, RecoveryHistory3, RecoveryMethod3,
     RecoveryStep, RegionSeed3, SurfaceTriangle,
 };
+use delmesh_delaunay_core::{FacetRef, Flips3};
 use delmesh_io::{SurfaceFile, TetMeshOut};
 use delmesh_point_gen::{
     Adaptation, BackgroundMesh3, GenerationReport3, PointGeneration3, QualityRefinement3, Source3,
@@ -45,7 +46,8 @@ pub enum Spacing3 {
 }
 
 /// Smoothing passes of the 3D pipeline. Below the paper's 20–50: the Delaunay restoration that
-/// follows smoothing re-triangulates the points, so what counts is where the points end up. On
+/// follows smoothing flips the mesh into the (constrained) Delaunay tetrahedralisation of the
+/// points, so what counts is where the points end up. On
 /// the double ellipsoid (`figure9`, `--example pipeline3d -- figure9 --iterations N`) the final
 /// mesh after 0, 2, 4, 6, 10 and 30 passes has 419, 175, 145, 159, 165 and 171 slivers
 /// (dihedral < 5°) and a mean smallest dihedral of 42.83°, 44.24°, 44.76°, 44.95°, 45.04° and
@@ -72,8 +74,8 @@ pub struct MeshOptions3 {
     pub refinement: Option<QualityRefinement3>,
     /// Laplacian smoothing of the field points (`None`: no smoothing).
     pub smoothing: Option<Smoother3>,
-    /// At the end, triangulate the final points again and recover the refined surface, so the
-    /// mesh is exactly Delaunay (see [`restore_delaunay`]).
+    /// At the end, restore the constrained Delaunay property that smoothing and generation
+    /// next to the boundary break (see [`restore_after_smoothing`]).
     pub delaunay: bool,
 }
 
@@ -104,8 +106,8 @@ pub struct MeshRun3 {
     pub recovery: RecoveryHistory3,
     /// The point generation passes, if generation ran.
     pub generation: Option<GenerationReport3>,
-    /// The recovery history of the Delaunay restoration, if it ran.
-    pub restoration: Option<RecoveryHistory3>,
+    /// How the Delaunay property was restored at the end, if it was.
+    pub restoration: Option<Restoration3>,
     /// Points added by quality refinement.
     pub refined: usize,
     /// What smoothing did, if it ran.
@@ -178,18 +180,15 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
             .as_ref()
             .map(|coords| QualityReport3::of_mesh(coords, &arrays.tets, &arrays.neighbours))
     };
-    let (quality_before_smoothing, restored) = if restore {
-        let (q, m) = rayon::join(measure_before, || {
-            restore_delaunay(&arrays, plc, options.max_steiner_points)
+    let (quality_before_smoothing, restoration) = if restore {
+        let (q, r) = rayon::join(measure_before, || {
+            restore_after_smoothing(&mut mesh, &arrays, plc, options.max_steiner_points)
         });
-        (q, Some(m?))
+        (q, Some(r?))
     } else {
         (measure_before(), None)
     };
-    let mut restoration = None;
-    if let Some(m) = restored {
-        mesh = m;
-        restoration = Some(mesh.history.clone());
+    if restoration.is_some() {
         arrays = mesh.to_arrays();
         lap("delaunay restoration", &mut timings);
     } else if quality_before_smoothing.is_some() {
@@ -212,12 +211,128 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
     })
 }
 
+/// How [`mesh_plc3`] restored the Delaunay property after point generation and smoothing.
+#[derive(Clone, Debug)]
+pub enum Restoration3 {
+    /// In the mesh itself: flips, and where they stopped short, edges split at their
+    /// mid-points (each split followed by flips again).
+    Flips {
+        /// The flips (`failing`: the faces that failed before the first flip; `left`: 0).
+        flips: Flips3,
+        /// Edges split, and how many of them were boundary edges (their new vertex is on the
+        /// surface, and the boundary faces on them were split in two).
+        split_edges: usize,
+        /// Of `split_edges`, the boundary edges.
+        surface_points: usize,
+    },
+    /// The flips and splits did not finish within [`MAX_SPLIT_ROUNDS`], so the final points
+    /// were triangulated again and the surface recovered again ([`restore_delaunay`]), with
+    /// this history.
+    Retriangulated {
+        /// The second recovery.
+        history: RecoveryHistory3,
+    },
+}
+
+/// Rounds of edge splits (each followed by flips) before [`restore_after_smoothing`] falls
+/// back to triangulating the points again.
+pub const MAX_SPLIT_ROUNDS: usize = 32;
+
+/// Makes `mesh` constrained Delaunay again after smoothing moved its points to
+/// `arrays.coords` (`arrays` is `mesh.to_arrays()` with the smoothed coordinates). The points
+/// are moved in the mesh and the faces that fail the insphere test are flipped
+/// ([`delmesh_delaunay_core::ConstrainedTriangulation3::make_delaunay`]; inside the domain
+/// only, never across a boundary face). Flips can stop short in 3D, typically at a boundary
+/// edge with only two elements around it whose shared face fails: such an edge is split at
+/// its mid-point ([`Mesh3::split_edge`], as the paper's recovery splits a missing edge) and
+/// the flips go on. Also mends the faces that point generation left failing next to the
+/// boundary. If that does not finish within [`MAX_SPLIT_ROUNDS`] rounds, `mesh` is replaced
+/// by [`restore_delaunay`]'s.
+///
+/// # Errors
+/// As [`restore_delaunay`], when it is needed.
+pub fn restore_after_smoothing(
+    mesh: &mut Mesh3,
+    arrays: &MeshArrays3,
+    plc: &Plc3,
+    max_steiner_points: Option<usize>,
+) -> Result<Restoration3, Error> {
+    let tri = mesh.ct.triangulation();
+    let moves: Vec<_> = arrays
+        .vertex
+        .iter()
+        .zip(&arrays.coords)
+        .filter(|&(&v, &p)| tri.vertex(v) != p)
+        .map(|(&v, &p)| (v, p))
+        .collect();
+    // Every cell is in scope: a split boundary edge changes cells outside the domain too.
+    let all = |_tag: u32| true;
+    // Smoothing keeps every element positive (exactly), so the move is accepted; if it were
+    // not, the flips could not start and the mesh is rebuilt.
+    if mesh.ct.move_vertices(&moves).is_ok() {
+        let mut flips = mesh.ct.make_delaunay(all);
+        let mut total = Flips3 {
+            failing: flips.failing,
+            ..Flips3::default()
+        };
+        let (mut split_edges, mut surface_points) = (0, 0);
+        let (mut fewest, mut stale) = (usize::MAX, 0);
+        let budget = flips.left.len() + flips.left.len() / 2 + 64;
+        let mut index = mesh.face_index();
+        for round in 0..=MAX_SPLIT_ROUNDS {
+            total.two_three += flips.two_three;
+            total.three_two += flips.three_two;
+            if flips.left.is_empty() {
+                return Ok(Restoration3::Flips {
+                    flips: total,
+                    split_edges,
+                    surface_points,
+                });
+            }
+            // Where interior points crowd the surface, splits make as many failing faces as
+            // they mend: the rounds stop after four without a new low, or before the splits
+            // would exceed one and a half times the faces the flips first left (plus 64).
+            if flips.left.len() < fewest {
+                (fewest, stale) = (flips.left.len(), 0);
+            } else {
+                stale += 1;
+            }
+            if round == MAX_SPLIT_ROUNDS || stale >= 4 || split_edges + flips.left.len() > budget {
+                break;
+            }
+            let mut next = flips.left.clone();
+            for &f in &flips.left {
+                // An earlier split of this round may have removed the face already.
+                if !mesh.ct.face_fails(f, all) {
+                    continue;
+                }
+                // (Splitting another edge of the face instead only moves the failing face to
+                // the new vertex: measured.)
+                let [x, y] = mesh.ct.edges_to_split(f)[0];
+                if let Ok(Some(v)) = mesh.split_edge(x, y, &mut index) {
+                    split_edges += 1;
+                    surface_points += usize::from(mesh.on_surface[v.index()]);
+                    for &c in mesh.ct.last_new_cells() {
+                        next.extend((0..4).map(|i| FacetRef::new(c, i)));
+                    }
+                }
+            }
+            flips = mesh.ct.make_delaunay_from(next, all);
+        }
+    }
+    *mesh = restore_delaunay(arrays, plc, max_steiner_points)?;
+    Ok(Restoration3::Retriangulated {
+        history: mesh.history.clone(),
+    })
+}
+
 /// The Delaunay tetrahedralisation of the points of `arrays`, conforming to its boundary
 /// triangles: they become the input surface (keeping the markers and the input facets of `plc`,
 /// whose holes and region seeds classify the cells), so recovery only splits the few that a
 /// nearby interior point now hides. Point generation near protected faces and smoothing both
 /// leave cells whose circumsphere holds a vertex; this puts every tetrahedron back to an empty
-/// circumsphere.
+/// circumsphere. Slower than the flips of [`restore_after_smoothing`], which fall back on it
+/// only where they cannot finish.
 ///
 /// # Errors
 /// As [`BoundaryRecovery3::run`].
@@ -300,13 +415,29 @@ impl MeshRun3 {
                 self.refined
             ));
         }
-        if let Some(r) = &self.restoration {
-            s.push_str(&format!(
-                "delaunay restoration: {} surface points added ({} on edges, {} in faces)\n",
-                r.points_added(),
-                r.edge_points,
-                r.face_points
-            ));
+        match &self.restoration {
+            Some(Restoration3::Flips {
+                flips: f,
+                split_edges,
+                surface_points,
+            }) => s.push_str(&format!(
+                "delaunay restoration: {} faces failed; {} flips (2-3: {}, 3-2: {}), {} edges \
+                 split ({} on the surface)\n",
+                f.failing,
+                f.two_three + f.three_two,
+                f.two_three,
+                f.three_two,
+                split_edges,
+                surface_points
+            )),
+            Some(Restoration3::Retriangulated { history }) => s.push_str(&format!(
+                "delaunay restoration: triangulated again, {} surface points added ({} on \
+                 edges, {} in faces)\n",
+                history.points_added(),
+                history.edge_points,
+                history.face_points
+            )),
+            None => {}
         }
         if let (Some(st), Some(q)) = (&self.smoothing, &self.quality_before_smoothing) {
             s.push_str(&format!(
@@ -525,10 +656,23 @@ impl MeshRun3 {
                     .collect(),
             )
         });
-        let restoration = self
-            .restoration
-            .as_ref()
-            .map_or("null".to_string(), history);
+        let restoration = match &self.restoration {
+            Some(Restoration3::Flips {
+                flips: f,
+                split_edges,
+                surface_points,
+            }) => format!(
+                "{{\"method\": \"flips\", \"failing\": {}, \"two_three\": {}, \
+                 \"three_two\": {}, \"split_edges\": {split_edges}, \"surface_points\": \
+                 {surface_points}, \"recovery\": null}}",
+                f.failing, f.two_three, f.three_two
+            ),
+            Some(Restoration3::Retriangulated { history: h }) => format!(
+                "{{\"method\": \"retriangulated\", \"recovery\": {}}}",
+                history(h)
+            ),
+            None => "null".to_string(),
+        };
         let timings = self
             .timings
             .iter()

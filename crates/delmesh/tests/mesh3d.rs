@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 
 use delmesh::geometry3;
-use delmesh::mesh3d::{mesh_plc3, MeshOptions3, MeshRun3};
+use delmesh::mesh3d::{mesh_plc3, MeshOptions3, MeshRun3, Restoration3};
 use delmesh::point_gen::PointGeneration3;
 use delmesh::predicates::{orient3d, Sign};
 use delmesh::recovery::{check_surface, tet_volume, Plc3, RecoveryMethod3};
@@ -94,6 +94,13 @@ fn sphere_in_a_box() {
     let plc = geometry3::sphere_in_box(3);
     let run = mesh_plc3(&plc, &options(1.0)).unwrap();
     assert!(run.generation.as_ref().unwrap().points_added() > 0);
+    // Restored in place, by flips: every boundary face kept as recovered.
+    match &run.restoration {
+        Some(Restoration3::Flips { flips, .. }) => {
+            assert!(flips.failing > 0 && flips.left.is_empty(), "{flips:?}");
+        }
+        other => panic!("restoration {other:?}"),
+    }
     check(&plc, &run, 2, true);
 }
 

@@ -1,0 +1,461 @@
+//! Moving the vertices of a [`ConstrainedTriangulation3`] and restoring its constrained Delaunay
+//! property by flips.
+//!
+//! Smoothing moves interior points, which leaves cells whose circumsphere holds a neighbour.
+//! Rather than triangulating all the points again and recovering the surface a second time,
+//! the mesh is repaired where it is: every unprotected face that fails the exact (symbolically
+//! perturbed) insphere test is flipped,
+//! - 2-3, when the segment between the two opposite vertices crosses the face: the two cells
+//!   become three around that segment;
+//! - 3-2, when it passes beyond one edge of the face and that edge has exactly three cells
+//!   around it: they become two.
+//!
+//! A flip never removes a protected face, never joins cells of different tags and adds no
+//! vertex. Each flip lowers the triangulation on the (perturbed) lifting paraboloid, so none is
+//! ever undone and the flips terminate. In 3D they can stop short, though: a failing face whose
+//! flip would need a 4-4 flip (a degenerate, coplanar configuration), an edge of degree above
+//! three or a protected face (typically a boundary edge with only two cells around it in the
+//! domain). [`ConstrainedTriangulation3::make_delaunay`] lists the faces left;
+//! [`ConstrainedTriangulation3::edges_to_split`] names the edge whose split removes each one
+//! ([`ConstrainedTriangulation3::split_edge`]), after which the flips go on from the new cells
+//! ([`ConstrainedTriangulation3::make_delaunay_from`]).
+
+use rayon::prelude::*;
+
+use crate::constrained3::ConstrainedTriangulation3;
+use crate::dim::{Dim, D3};
+use crate::error::ConstraintError;
+use crate::ids::{CellId, FacetRef, VertexId};
+use delmesh_predicates::{orient3d, Sign};
+
+/// What [`ConstrainedTriangulation3::make_delaunay`] did.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Flips3 {
+    /// Faces that failed the insphere test before any flip.
+    pub failing: usize,
+    /// 2-3 flips made.
+    pub two_three: usize,
+    /// 3-2 flips made.
+    pub three_two: usize,
+    /// The faces still failing the test, which no flip could mend, each once (empty: the
+    /// triangulation is constrained Delaunay across every face in scope). Valid until the
+    /// triangulation changes.
+    pub left: Vec<FacetRef>,
+}
+
+impl ConstrainedTriangulation3 {
+    /// Moves vertices (caller's coordinates) all at once, if every cell around them stays
+    /// finite and positively oriented; otherwise nothing moves.
+    ///
+    /// # Errors
+    /// [`ConstraintError::InvalidMove`] naming the first vertex whose move inverts a cell, or
+    /// that is on the hull; coordinate errors as for insertion.
+    pub fn move_vertices(&mut self, moves: &[(VertexId, [f64; 3])]) -> Result<(), ConstraintError> {
+        let mut old: Vec<(VertexId, [f64; 3])> = Vec::with_capacity(moves.len());
+        let mut moved = vec![false; self.tri.num_vertices()];
+        let undo = |this: &mut Self, old: &[(VertexId, [f64; 3])]| {
+            for &(u, q) in old.iter().rev() {
+                this.tri.points[u.index()] = q;
+            }
+        };
+        for &(v, p) in moves {
+            if v.is_ghost() || v.index() >= self.tri.num_vertices() {
+                undo(self, &old);
+                return Err(ConstraintError::InvalidMove { vertex: v });
+            }
+            // Tiny magnitudes (averages of values near zero) are flushed to zero, which the
+            // predicates handle exactly.
+            let (scale, tiny) = (self.tri.scale, self.tri.min_magnitude);
+            let p = p.map(|x| if (x * scale).abs() < tiny { 0.0 } else { x });
+            let q = match self.tri.scaled_input(p) {
+                Ok(q) => q,
+                Err(e) => {
+                    undo(self, &old);
+                    return Err(e.into());
+                }
+            };
+            old.push((v, self.tri.points[v.index()]));
+            self.tri.points[v.index()] = q;
+            moved[v.index()] = true;
+        }
+        // One scan over the cells in slot order (in parallel): every live cell with a moved
+        // vertex must be finite and positive.
+        let points = &self.tri.points;
+        let broken = |s: &crate::triangulation::Simplex| {
+            s.v[0] != VertexId::DEAD
+                && s.v.iter().any(|&u| !u.is_ghost() && moved[u.index()])
+                && (s.v.iter().any(|u| u.is_ghost())
+                    || D3::orient(&s.v.map(|u| points[u.index()])) != Sign::Positive)
+        };
+        let first = self
+            .tri
+            .simplices
+            .par_iter()
+            .with_min_len(1 << 12)
+            .find_first(|s| broken(s))
+            .copied();
+        if let Some(s) = first {
+            // Name the first vertex, in `moves` order, of the broken cell.
+            let vertex = moves
+                .iter()
+                .map(|&(v, _)| v)
+                .find(|v| s.v.contains(v))
+                .unwrap_or(moves[0].0);
+            undo(self, &old);
+            return Err(ConstraintError::InvalidMove { vertex });
+        }
+        Ok(())
+    }
+
+    /// Flips unprotected faces between finite cells whose tags are `in_scope` until each passes
+    /// the insphere test, or no flip can mend those left (see the module docs). Cells out of
+    /// scope are never changed.
+    pub fn make_delaunay(&mut self, in_scope: impl Fn(u32) -> bool + Sync) -> Flips3 {
+        // The failing faces, each once, found in parallel in cell order (read-only). A face
+        // that passes can fail only after a flip changes one of its cells, and every flip
+        // queues the faces around it.
+        let this = &*self;
+        let failing: Vec<FacetRef> = (0..self.tri.simplices.len() as u32)
+            .into_par_iter()
+            .with_min_len(1 << 12)
+            .map(CellId)
+            .flat_map_iter(|c| {
+                let scope = &in_scope;
+                (0..4).filter_map(move |i| {
+                    let n = this.tri.simplices[c.index()].n[i].cell();
+                    (c < n && this.fails(c, i, scope)).then_some(FacetRef::new(c, i))
+                })
+            })
+            .collect();
+        self.make_delaunay_from(failing, in_scope)
+    }
+
+    /// [`Self::make_delaunay`] when the only faces that may fail are among `faces` (for
+    /// instance those of the cells a change made, and the faces left by the last flips); stale
+    /// or passing faces are skipped. `failing` counts the faces of `faces` that fail.
+    pub fn make_delaunay_from(
+        &mut self,
+        faces: Vec<FacetRef>,
+        in_scope: impl Fn(u32) -> bool,
+    ) -> Flips3 {
+        let mut stack = faces;
+        let mut report = Flips3 {
+            failing: self.distinct_failing(&stack, &in_scope).len(),
+            ..Flips3::default()
+        };
+        // No flip is ever undone, so the number of flips is bounded; this bound only guards
+        // against a bug.
+        let budget = 64 * self.tri.simplices.len() + 1024;
+        let mut stuck: Vec<FacetRef> = Vec::new();
+        loop {
+            let before = report.two_three + report.three_two;
+            while let Some(f) = stack.pop() {
+                if report.two_three + report.three_two >= budget {
+                    stuck.push(f);
+                    stuck.append(&mut stack);
+                    break;
+                }
+                self.mend(f, &in_scope, &mut stack, &mut stuck, &mut report);
+            }
+            // A face refused earlier may be flippable now that its surroundings changed.
+            if stuck.is_empty()
+                || report.two_three + report.three_two == before
+                || report.two_three + report.three_two >= budget
+            {
+                break;
+            }
+            stack = std::mem::take(&mut stuck);
+        }
+        // Every failing face is in `stuck` now (possibly twice, or through a reused slot).
+        report.left = self.distinct_failing(&stuck, &in_scope);
+        report
+    }
+
+    /// Whether the face `f` is live, unprotected, between two finite cells in scope, and
+    /// fails the insphere test.
+    pub fn face_fails(&self, f: FacetRef, in_scope: impl Fn(u32) -> bool) -> bool {
+        self.tri.is_live(f.cell()) && self.fails(f.cell(), f.facet(), &in_scope)
+    }
+
+    /// The faces of `faces` that fail, each once (named from its lower cell slot), sorted.
+    fn distinct_failing(
+        &self,
+        faces: &[FacetRef],
+        in_scope: &impl Fn(u32) -> bool,
+    ) -> Vec<FacetRef> {
+        let mut out: Vec<FacetRef> = faces
+            .iter()
+            .filter(|f| self.tri.is_live(f.cell()) && self.fails(f.cell(), f.facet(), in_scope))
+            .map(|&f| {
+                let twin = self.tri.simplices[f.cell().index()].n[f.facet()];
+                if twin.0 < f.0 {
+                    twin
+                } else {
+                    f
+                }
+            })
+            .collect();
+        out.sort_unstable_by_key(|f| f.0);
+        out.dedup();
+        out
+    }
+
+    /// The three edges of the failing face `f`, in the order to try splitting them where no
+    /// flip mends it (splitting any removes the face: both its cells hold the edge). First the
+    /// edge the segment between the two opposite vertices passes beyond, where there is one,
+    /// then by decreasing length.
+    pub fn edges_to_split(&self, f: FacetRef) -> [[VertexId; 2]; 3] {
+        let (c, i) = (f.cell(), f.facet());
+        let s = &self.tri.simplices[c.index()];
+        let across = s.n[i];
+        let e = self.tri.simplices[across.cell().index()].v[across.facet()];
+        let p = |u: VertexId| self.tri.points[u.index()];
+        let face: [usize; 3] = [(i + 1) % 4, (i + 2) % 4, (i + 3) % 4];
+        let sign = face.map(|k| {
+            let mut v = s.v.map(p);
+            v[k] = p(e);
+            orient3d(v[0], v[1], v[2], v[3])
+        });
+        // The edge opposite face vertex `q`, and its squared length.
+        let edge = |q: usize| {
+            let (a, b) = (s.v[face[(q + 1) % 3]], s.v[face[(q + 2) % 3]]);
+            if a < b {
+                [a, b]
+            } else {
+                [b, a]
+            }
+        };
+        let length2 = |q: usize| {
+            let [a, b] = edge(q);
+            let (pa, pb) = (p(a), p(b));
+            (0..3)
+                .map(|k| (pa[k] - pb[k]) * (pa[k] - pb[k]))
+                .sum::<f64>()
+        };
+        let reflex = (sign.iter().filter(|&&g| g == Sign::Negative).count() == 1)
+            .then(|| (0..3).find(|&q| sign[q] == Sign::Negative))
+            .flatten();
+        let mut order = [0, 1, 2];
+        order.sort_by(|&a, &b| {
+            (Some(b) == reflex)
+                .cmp(&(Some(a) == reflex))
+                .then(length2(b).total_cmp(&length2(a)))
+        });
+        order.map(edge)
+    }
+
+    /// Whether the face of `c` opposite its vertex `i` is unprotected, between two finite
+    /// cells in scope, and fails the insphere test.
+    fn fails(&self, c: CellId, i: usize, in_scope: &impl Fn(u32) -> bool) -> bool {
+        let s = &self.tri.simplices[c.index()];
+        if s.v[0] == VertexId::DEAD || self.is_protected(c, i) || !in_scope(self.tags[c.index()]) {
+            return false;
+        }
+        let across = s.n[i];
+        let m = across.cell();
+        if s.v.contains(&VertexId::GHOST) || !in_scope(self.tags[m.index()]) {
+            return false;
+        }
+        let e = self.tri.simplices[m.index()].v[across.facet()];
+        if e.is_ghost() {
+            return false;
+        }
+        D3::insphere_cell(&self.tri.points, &s.v, self.tri.points[e.index()]) == Sign::Positive
+    }
+
+    /// Flips the face `f` if it fails and a 2-3 or 3-2 flip applies; a failing face that
+    /// cannot be flipped goes to `stuck`. The new cells' outer faces are queued.
+    fn mend(
+        &mut self,
+        f: FacetRef,
+        in_scope: &impl Fn(u32) -> bool,
+        stack: &mut Vec<FacetRef>,
+        stuck: &mut Vec<FacetRef>,
+        report: &mut Flips3,
+    ) {
+        let (c, i) = (f.cell(), f.facet());
+        if !self.tri.is_live(c) || !self.fails(c, i, in_scope) {
+            return;
+        }
+        let s = self.tri.simplices[c.index()];
+        let across = s.n[i];
+        let (m, j) = (across.cell(), across.facet());
+        let t = self.tri.simplices[m.index()];
+        let e = t.v[j];
+        let pe = self.tri.points[e.index()];
+        let p = |u: VertexId| self.tri.points[u.index()];
+        // Cell `c` with its face vertex at `k` replaced by `e`: positive for each `k` exactly
+        // when the segment from `c`'s apex to `e` crosses the face.
+        let face: [usize; 3] = [(i + 1) % 4, (i + 2) % 4, (i + 3) % 4];
+        let sign = face.map(|k| {
+            let mut v = s.v.map(p);
+            v[k] = pe;
+            orient3d(v[0], v[1], v[2], v[3])
+        });
+        let negative: Vec<usize> = (0..3).filter(|&q| sign[q] == Sign::Negative).collect();
+        let mut queue = |cells: &[CellId]| {
+            for &cell in cells {
+                stack.extend((0..4).map(|q| FacetRef::new(cell, q)));
+            }
+        };
+        if sign.iter().all(|&g| g == Sign::Positive) {
+            queue(&self.flip23(c, i, m, j));
+            report.two_three += 1;
+        } else if negative.len() == 1 && !sign.contains(&Sign::Zero) {
+            match self.flip32(c, i, face[negative[0]], m, in_scope) {
+                Some(cells) => {
+                    queue(&cells);
+                    report.three_two += 1;
+                }
+                None => stuck.push(f),
+            }
+        } else {
+            stuck.push(f);
+        }
+    }
+
+    /// The 2-3 flip of the face between `c` (opposite its vertex `i`) and `m` (opposite `j`):
+    /// three cells around the segment joining their apexes, each `c` with one face vertex
+    /// replaced by `m`'s apex (so every cell keeps `c`'s local numbering). Returns them.
+    fn flip23(&mut self, c: CellId, i: usize, m: CellId, j: usize) -> [CellId; 3] {
+        let s = self.tri.simplices[c.index()];
+        let t = self.tri.simplices[m.index()];
+        let e = t.v[j];
+        let face: [usize; 3] = [(i + 1) % 4, (i + 2) % 4, (i + 3) % 4];
+        // Where each face vertex sits in `m`.
+        let in_t = face.map(|k| local(&t.v, s.v[k]));
+        let (pc, pm, tag) = (
+            self.protected[c.index()],
+            self.protected[m.index()],
+            self.tags[c.index()],
+        );
+        let third = {
+            let mut v = s.v;
+            v[face[2]] = e;
+            self.tri.alloc_cell(&v)
+        };
+        let slots = [c, m, third];
+        self.grow_cell_data();
+        for (q, &k) in face.iter().enumerate() {
+            let cell = slots[q];
+            let mut v = s.v;
+            v[k] = e;
+            self.tri.simplices[cell.index()].v = v;
+            for (r, &l) in face.iter().enumerate() {
+                if l != k {
+                    self.tri.simplices[cell.index()].n[l] = FacetRef::new(slots[r], k);
+                }
+            }
+            self.protected[cell.index()] = ((pc >> k) & 1) << k | ((pm >> in_t[q]) & 1) << i;
+            self.tags[cell.index()] = tag;
+        }
+        // The outer faces last: an outer neighbour is never one of the two old cells.
+        for (q, &k) in face.iter().enumerate() {
+            self.tri.link(FacetRef::new(slots[q], k), s.n[k]);
+            self.tri.link(FacetRef::new(slots[q], i), t.n[in_t[q]]);
+        }
+        for (q, &k) in face.iter().enumerate() {
+            // Face vertex `k` is in every new cell but the one that replaced it.
+            self.tri.incident[s.v[k].index()] = slots[(q + 1) % 3];
+        }
+        self.tri.incident[s.v[i].index()] = c;
+        self.tri.incident[e.index()] = c;
+        self.tri.last = c;
+        slots
+    }
+
+    /// The 3-2 flip around the edge of `c`'s face `i` that does not hold `c`'s vertex `k`, if
+    /// exactly three cells surround it (`c`, `m` across face `i`, and a third holding both
+    /// apexes), all in scope with unprotected faces between them. The two new cells are `c`
+    /// with one end of the edge replaced by `m`'s apex. `None` (nothing changed) otherwise.
+    fn flip32(
+        &mut self,
+        c: CellId,
+        i: usize,
+        k: usize,
+        m: CellId,
+        in_scope: &impl Fn(u32) -> bool,
+    ) -> Option<[CellId; 2]> {
+        let s = self.tri.simplices[c.index()];
+        let t = self.tri.simplices[m.index()];
+        let e = t.v[s.n[i].facet()];
+        let z = s.v[k];
+        // The third cell: across `c`'s face opposite `z` (apex, edge), and across `m`'s.
+        let u_ref = s.n[k];
+        let u = u_ref.cell();
+        let zt = local(&t.v, z);
+        let w = self.tri.simplices[u.index()];
+        if self.is_protected(c, k)
+            || self.is_protected(m, zt)
+            || t.n[zt].cell() != u
+            || w.v.contains(&VertexId::GHOST)
+            || !w.v.contains(&e)
+            || self.tags[u.index()] != self.tags[c.index()]
+            || !in_scope(self.tags[u.index()])
+        {
+            return None;
+        }
+        let edge: [usize; 2] = {
+            let mut q = (0..4).filter(|&q| q != i && q != k);
+            [q.next().unwrap_or(0), q.next().unwrap_or(0)]
+        };
+        let (pc, pm, pu, tag) = (
+            self.protected[c.index()],
+            self.protected[m.index()],
+            self.protected[u.index()],
+            self.tags[c.index()],
+        );
+        // New cell `q` replaces the edge end at `edge[q]` by `e`; the other end stays in it.
+        let slots = [c, m];
+        for (q, &x) in edge.iter().enumerate() {
+            let cell = slots[q];
+            let other = edge[1 - q];
+            let mut v = s.v;
+            v[x] = e;
+            self.tri.simplices[cell.index()].v = v;
+            self.tri.simplices[cell.index()].n[other] = FacetRef::new(slots[1 - q], x);
+            let end = s.v[x];
+            let (in_t, in_w) = (local(&t.v, end), local(&w.v, end));
+            self.protected[cell.index()] =
+                ((pc >> x) & 1) << x | ((pm >> in_t) & 1) << i | ((pu >> in_w) & 1) << k;
+            self.tags[cell.index()] = tag;
+        }
+        for (q, &x) in edge.iter().enumerate() {
+            let end = s.v[x];
+            let (in_t, in_w) = (local(&t.v, end), local(&w.v, end));
+            self.tri.link(FacetRef::new(slots[q], x), s.n[x]);
+            self.tri.link(FacetRef::new(slots[q], i), t.n[in_t]);
+            self.tri.link(FacetRef::new(slots[q], k), w.n[in_w]);
+        }
+        // Free the third cell.
+        self.tri.simplices[u.index()].v[0] = VertexId::DEAD;
+        self.tri.free.push(u);
+        self.protected[u.index()] = 0;
+        for (q, &x) in edge.iter().enumerate() {
+            // Each end of the edge stays only in the cell that kept it.
+            self.tri.incident[s.v[x].index()] = slots[1 - q];
+        }
+        for v in [s.v[i], z, e] {
+            self.tri.incident[v.index()] = c;
+        }
+        self.tri.last = c;
+        Some(slots)
+    }
+
+    /// Per-cell data for cell slots the triangulation has just grown.
+    fn grow_cell_data(&mut self) {
+        let n = self.tri.simplices.len();
+        if self.protected.len() < n {
+            self.protected.resize(n, 0);
+            self.tags.resize(n, 0);
+        }
+    }
+}
+
+/// The local index of `v` in a cell's vertices (it is there: the callers checked).
+#[inline]
+fn local(cell: &[VertexId; 4], v: VertexId) -> usize {
+    cell.iter()
+        .position(|&u| u == v)
+        .expect("the vertex is in the cell: a bug in delmesh")
+}
