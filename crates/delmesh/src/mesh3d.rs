@@ -225,7 +225,7 @@ pub enum Restoration3 {
         /// Of `split_edges`, the boundary edges.
         surface_points: usize,
     },
-    /// The flips and splits did not finish within [`MAX_SPLIT_ROUNDS`], so the final points
+    /// The splits did not converge (see [`restore_after_smoothing`]), so the final points
     /// were triangulated again and the surface recovered again ([`restore_delaunay`]), with
     /// this history.
     Retriangulated {
@@ -234,8 +234,8 @@ pub enum Restoration3 {
     },
 }
 
-/// Rounds of edge splits (each followed by flips) before [`restore_after_smoothing`] falls
-/// back to triangulating the points again.
+/// The most rounds of edge splits (each followed by flips) before [`restore_after_smoothing`]
+/// falls back on triangulating the points again.
 pub const MAX_SPLIT_ROUNDS: usize = 32;
 
 /// Makes `mesh` constrained Delaunay again after smoothing moved its points to
@@ -246,8 +246,10 @@ pub const MAX_SPLIT_ROUNDS: usize = 32;
 /// edge with only two elements around it whose shared face fails: such an edge is split at
 /// its mid-point ([`Mesh3::split_edge`], as the paper's recovery splits a missing edge) and
 /// the flips go on. Also mends the faces that point generation left failing next to the
-/// boundary. If that does not finish within [`MAX_SPLIT_ROUNDS`] rounds, `mesh` is replaced
-/// by [`restore_delaunay`]'s.
+/// boundary. Where interior points crowd the surface the splits do not converge: after four
+/// rounds without fewer failing faces than ever, after more splits than one and a half times
+/// the faces the first flips left (plus 64), or after [`MAX_SPLIT_ROUNDS`] rounds, `mesh` is
+/// replaced by [`restore_delaunay`]'s.
 ///
 /// # Errors
 /// As [`restore_delaunay`], when it is needed.
