@@ -239,6 +239,16 @@ fn open_surface_names_its_boundary_edges() {
 }
 
 #[test]
+fn a_surface_without_triangles_is_an_error() {
+    let plc = Plc3::from_triangles(TETRA_POINTS.to_vec(), &[]);
+    assert_eq!(
+        message(&plc),
+        "the surface has no triangles (4 points): nothing encloses a domain (files of \
+         second-order triangles or of quadrilaterals only give none)"
+    );
+}
+
+#[test]
 fn one_based_numbering_in_messages() {
     let mut plc = Plc3::from_triangles(TETRA_POINTS.to_vec(), &TETRA[1..]);
     plc.first_index = 1;

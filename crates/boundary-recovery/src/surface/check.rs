@@ -134,6 +134,9 @@ pub(crate) fn scaled_points(points: &[P], base: u64) -> Result<(f64, Vec<P>), Su
 pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
     let base = u64::from(plc.first_index);
     let n_input = plc.points.len();
+    if plc.triangles.is_empty() {
+        return Err(SurfaceError::NoTriangles { points: n_input });
+    }
     let (scale, scaled_input) = scaled_points(&plc.points, base)?;
     for (what, seeds) in [
         ("hole", plc.holes.clone()),

@@ -225,6 +225,15 @@ pub enum SurfaceError {
         /// The edges and their facets.
         edges: Listed<EdgeName>,
     },
+    /// No triangle at all: nothing encloses a domain.
+    #[error(
+        "the surface has no triangles ({points} points): nothing encloses a domain (files of \
+         second-order triangles or of quadrilaterals only give none)"
+    )]
+    NoTriangles {
+        /// How many points there are.
+        points: usize,
+    },
     /// Edges used by one triangle only: the surface has a hole.
     #[error("the surface is not closed: edges used by only one triangle: {edges}")]
     OpenEdges {
