@@ -689,32 +689,7 @@ impl ConstrainedTriangulation2 {
     /// [`ConstraintError::InvalidMove`] naming the first vertex whose move inverts a cell, or
     /// is on the hull; coordinate errors as for insertion.
     pub fn move_vertices(&mut self, moves: &[(VertexId, [f64; 2])]) -> Result<(), ConstraintError> {
-        let mut old: Vec<(VertexId, [f64; 2])> = Vec::with_capacity(moves.len());
-        let mut moved = vec![false; self.tri.num_vertices()];
-        for &(v, p) in moves {
-            if v.is_ghost() || v.index() >= self.tri.num_vertices() {
-                for &(u, q) in old.iter().rev() {
-                    self.tri.points[u.index()] = q;
-                }
-                return Err(ConstraintError::InvalidMove { vertex: v });
-            }
-            // Tiny magnitudes (averages of values near zero) are flushed to zero, which the
-            // predicates handle exactly.
-            let (scale, tiny) = (self.tri.scale, self.tri.min_magnitude);
-            let p = p.map(|x| if (x * scale).abs() < tiny { 0.0 } else { x });
-            let q = match self.tri.scaled_input(p) {
-                Ok(q) => q,
-                Err(e) => {
-                    for &(u, q) in old.iter().rev() {
-                        self.tri.points[u.index()] = q;
-                    }
-                    return Err(e.into());
-                }
-            };
-            old.push((v, self.tri.points[v.index()]));
-            self.tri.points[v.index()] = q;
-            moved[v.index()] = true;
-        }
+        let (old, moved) = self.tri.place_vertices(moves)?;
         // One scan over the cells in slot order (memory order, in parallel), rather than a walk
         // around each moved vertex: every cell with a moved vertex must be finite and positive.
         let touches = |s: &crate::triangulation::Simplex| {
@@ -741,9 +716,7 @@ impl ConstrainedTriangulation2 {
                 .iter()
                 .find(|&&(v, _)| !self.star_positive(v))
                 .map_or(moves[0].0, |&(v, _)| v);
-            for &(u, p) in old.iter().rev() {
-                self.tri.points[u.index()] = p;
-            }
+            self.tri.put_back(&old);
             return Err(ConstraintError::InvalidMove { vertex: first });
         }
         if self.log.is_some() {

@@ -175,7 +175,7 @@ impl ConstrainedTriangulation3 {
         let tag = self.tags[c.index()];
         let input = self.tri.vertex_of_input.len() as u32;
         let protected = &self.protected;
-        let Some(v) = self.tri.insert_blocked(p, input, &[c], |f| {
+        let Some(v) = self.tri.insert_blocked(p, input, c, |f| {
             (protected[f.cell().index()] >> f.facet()) & 1 != 0
         }) else {
             return Ok(None);

@@ -51,33 +51,7 @@ impl ConstrainedTriangulation3 {
     /// [`ConstraintError::InvalidMove`] naming the first vertex whose move inverts a cell, or
     /// that is on the hull; coordinate errors as for insertion.
     pub fn move_vertices(&mut self, moves: &[(VertexId, [f64; 3])]) -> Result<(), ConstraintError> {
-        let mut old: Vec<(VertexId, [f64; 3])> = Vec::with_capacity(moves.len());
-        let mut moved = vec![false; self.tri.num_vertices()];
-        let undo = |this: &mut Self, old: &[(VertexId, [f64; 3])]| {
-            for &(u, q) in old.iter().rev() {
-                this.tri.points[u.index()] = q;
-            }
-        };
-        for &(v, p) in moves {
-            if v.is_ghost() || v.index() >= self.tri.num_vertices() {
-                undo(self, &old);
-                return Err(ConstraintError::InvalidMove { vertex: v });
-            }
-            // Tiny magnitudes (averages of values near zero) are flushed to zero, which the
-            // predicates handle exactly.
-            let (scale, tiny) = (self.tri.scale, self.tri.min_magnitude);
-            let p = p.map(|x| if (x * scale).abs() < tiny { 0.0 } else { x });
-            let q = match self.tri.scaled_input(p) {
-                Ok(q) => q,
-                Err(e) => {
-                    undo(self, &old);
-                    return Err(e.into());
-                }
-            };
-            old.push((v, self.tri.points[v.index()]));
-            self.tri.points[v.index()] = q;
-            moved[v.index()] = true;
-        }
+        let (old, moved) = self.tri.place_vertices(moves)?;
         // One scan over the cells in slot order (in parallel): every live cell with a moved
         // vertex must be finite and positive.
         let points = &self.tri.points;
@@ -101,7 +75,7 @@ impl ConstrainedTriangulation3 {
                 .map(|&(v, _)| v)
                 .find(|v| s.v.contains(v))
                 .unwrap_or(moves[0].0);
-            undo(self, &old);
+            self.tri.put_back(&old);
             return Err(ConstraintError::InvalidMove { vertex });
         }
         Ok(())
@@ -127,7 +101,8 @@ impl ConstrainedTriangulation3 {
                 })
             })
             .collect();
-        self.make_delaunay_from(failing, in_scope)
+        let n = failing.len();
+        self.flip_from(failing, n, in_scope)
     }
 
     /// [`Self::make_delaunay`] when the only faces that may fail are among `faces` (for
@@ -138,9 +113,19 @@ impl ConstrainedTriangulation3 {
         faces: Vec<FacetRef>,
         in_scope: impl Fn(u32) -> bool,
     ) -> Flips3 {
-        let mut stack = faces;
+        let failing = self.distinct_failing(&faces, &in_scope).len();
+        self.flip_from(faces, failing, in_scope)
+    }
+
+    /// The flips from the faces `stack` (`failing` of them fail).
+    fn flip_from(
+        &mut self,
+        mut stack: Vec<FacetRef>,
+        failing: usize,
+        in_scope: impl Fn(u32) -> bool,
+    ) -> Flips3 {
         let mut report = Flips3 {
-            failing: self.distinct_failing(&stack, &in_scope).len(),
+            failing,
             ..Flips3::default()
         };
         // No flip is ever undone, so the number of flips is bounded; this bound only guards
@@ -207,15 +192,8 @@ impl ConstrainedTriangulation3 {
     pub fn edges_to_split(&self, f: FacetRef) -> [[VertexId; 2]; 3] {
         let (c, i) = (f.cell(), f.facet());
         let s = &self.tri.simplices[c.index()];
-        let across = s.n[i];
-        let e = self.tri.simplices[across.cell().index()].v[across.facet()];
         let p = |u: VertexId| self.tri.points[u.index()];
-        let face: [usize; 3] = [(i + 1) % 4, (i + 2) % 4, (i + 3) % 4];
-        let sign = face.map(|k| {
-            let mut v = s.v.map(p);
-            v[k] = p(e);
-            orient3d(v[0], v[1], v[2], v[3])
-        });
+        let (face, sign) = self.crossing(c, i);
         // The edge opposite face vertex `q`, and its squared length.
         let edge = |q: usize| {
             let (a, b) = (s.v[face[(q + 1) % 3]], s.v[face[(q + 2) % 3]]);
@@ -232,9 +210,7 @@ impl ConstrainedTriangulation3 {
                 .map(|k| (pa[k] - pb[k]) * (pa[k] - pb[k]))
                 .sum::<f64>()
         };
-        let reflex = (sign.iter().filter(|&&g| g == Sign::Negative).count() == 1)
-            .then(|| (0..3).find(|&q| sign[q] == Sign::Negative))
-            .flatten();
+        let reflex = beyond_one_edge(&sign);
         let mut order = [0, 1, 2];
         order.sort_by(|&a, &b| {
             (Some(b) == reflex)
@@ -263,6 +239,22 @@ impl ConstrainedTriangulation3 {
         D3::insphere_cell(&self.tri.points, &s.v, self.tri.points[e.index()]) == Sign::Positive
     }
 
+    /// For the face of `c` opposite its vertex `i`: its local positions `face` in `c`, and the
+    /// orientation of `c` with the vertex at `face[q]` replaced by the apex across the face.
+    /// All positive exactly when the segment between the two apexes crosses the face.
+    fn crossing(&self, c: CellId, i: usize) -> ([usize; 3], [Sign; 3]) {
+        let s = &self.tri.simplices[c.index()];
+        let across = s.n[i];
+        let e = self.tri.simplices[across.cell().index()].v[across.facet()];
+        let face: [usize; 3] = [(i + 1) % 4, (i + 2) % 4, (i + 3) % 4];
+        let sign = face.map(|k| {
+            let mut v = s.v.map(|u| self.tri.points[u.index()]);
+            v[k] = self.tri.points[e.index()];
+            orient3d(v[0], v[1], v[2], v[3])
+        });
+        (face, sign)
+    }
+
     /// Flips the face `f` if it fails and a 2-3 or 3-2 flip applies; a failing face that
     /// cannot be flipped goes to `stuck`. The new cells' outer faces are queued.
     fn mend(
@@ -277,22 +269,9 @@ impl ConstrainedTriangulation3 {
         if !self.tri.is_live(c) || !self.fails(c, i, in_scope) {
             return;
         }
-        let s = self.tri.simplices[c.index()];
-        let across = s.n[i];
+        let across = self.tri.simplices[c.index()].n[i];
         let (m, j) = (across.cell(), across.facet());
-        let t = self.tri.simplices[m.index()];
-        let e = t.v[j];
-        let pe = self.tri.points[e.index()];
-        let p = |u: VertexId| self.tri.points[u.index()];
-        // Cell `c` with its face vertex at `k` replaced by `e`: positive for each `k` exactly
-        // when the segment from `c`'s apex to `e` crosses the face.
-        let face: [usize; 3] = [(i + 1) % 4, (i + 2) % 4, (i + 3) % 4];
-        let sign = face.map(|k| {
-            let mut v = s.v.map(p);
-            v[k] = pe;
-            orient3d(v[0], v[1], v[2], v[3])
-        });
-        let negative: Vec<usize> = (0..3).filter(|&q| sign[q] == Sign::Negative).collect();
+        let (face, sign) = self.crossing(c, i);
         let mut queue = |cells: &[CellId]| {
             for &cell in cells {
                 stack.extend((0..4).map(|q| FacetRef::new(cell, q)));
@@ -301,8 +280,8 @@ impl ConstrainedTriangulation3 {
         if sign.iter().all(|&g| g == Sign::Positive) {
             queue(&self.flip23(c, i, m, j));
             report.two_three += 1;
-        } else if negative.len() == 1 && !sign.contains(&Sign::Zero) {
-            match self.flip32(c, i, face[negative[0]], m, in_scope) {
+        } else if let Some(q) = beyond_one_edge(&sign) {
+            match self.flip32(c, i, face[q], m, in_scope) {
                 Some(cells) => {
                     queue(&cells);
                     report.three_two += 1;
@@ -450,6 +429,17 @@ impl ConstrainedTriangulation3 {
             self.tags.resize(n, 0);
         }
     }
+}
+
+/// Where the segment between the apexes of a face passes beyond exactly one edge of it (the
+/// signs of [`ConstrainedTriangulation3::crossing`]: one negative, two positive), the position
+/// `q` of the face vertex opposite that edge.
+fn beyond_one_edge(sign: &[Sign; 3]) -> Option<usize> {
+    let negative = sign.iter().filter(|&&g| g == Sign::Negative).count();
+    let positive = sign.iter().filter(|&&g| g == Sign::Positive).count();
+    (negative == 1 && positive == 2)
+        .then(|| sign.iter().position(|&g| g == Sign::Negative))
+        .flatten()
 }
 
 /// The local index of `v` in a cell's vertices (it is there: the callers checked).

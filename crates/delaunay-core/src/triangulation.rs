@@ -23,7 +23,7 @@
 //! the caller's numbering.
 
 use crate::dim::Dim;
-use crate::error::TriangulationError;
+use crate::error::{ConstraintError, TriangulationError};
 use crate::ids::{CellId, FacetRef, VertexId};
 use crate::sort::{brio_order, SplitMix, PARALLEL_MIN};
 use delmesh_predicates::{Sign, COORDINATE_RANGE};
@@ -94,10 +94,13 @@ pub(crate) struct Cavity {
     pub(crate) new_cells: Vec<CellId>,
     /// Every cell whose mark a blocked cavity search set (see `insert_blocked`).
     touched: Vec<CellId>,
-    /// For a blocked insertion, the cavity cell each boundary facet belongs to (the cell the
-    /// new cell on it replaces), in the order of `boundary`.
+    /// For [`Triangulation::insert_star_shaped`], the cavity cell each boundary facet belongs to
+    /// (the cell the new cell on it replaces), in the order of `boundary`.
     pub(crate) inside: Vec<CellId>,
 }
+
+/// The positions vertices had before [`Triangulation::place_vertices`] moved them.
+pub(crate) type OldPositions<D> = Vec<(VertexId, <D as Dim>::Point)>;
 
 /// Cavity search marks: not visited, in conflict, tested and not in conflict.
 const UNSEEN: u8 = 0;
@@ -492,6 +495,51 @@ impl<D: Dim> Triangulation<D> {
         Ok(p)
     }
 
+    /// Puts the vertices of `moves` at their new positions (caller's coordinates), checking no
+    /// cell: the constrained triangulations check their cells, and [`Self::put_back`] the old
+    /// positions (returned, with a mask of the moved vertices) if a cell inverts. Tiny
+    /// magnitudes (averages of values near zero) are flushed to zero, which the predicates
+    /// handle exactly. On a ghost or unknown vertex, or a coordinate out of range, nothing
+    /// moves.
+    pub(crate) fn place_vertices(
+        &mut self,
+        moves: &[(VertexId, D::Point)],
+    ) -> Result<(OldPositions<D>, Vec<bool>), ConstraintError> {
+        let mut old = Vec::with_capacity(moves.len());
+        let mut moved = vec![false; self.num_vertices()];
+        for &(v, p) in moves {
+            let mut p = p;
+            for x in p.as_mut() {
+                if (*x * self.scale).abs() < self.min_magnitude {
+                    *x = 0.0;
+                }
+            }
+            let q = if v.is_ghost() || v.index() >= self.num_vertices() {
+                Err(ConstraintError::InvalidMove { vertex: v })
+            } else {
+                self.scaled_input(p).map_err(ConstraintError::from)
+            };
+            let q = match q {
+                Ok(q) => q,
+                Err(e) => {
+                    self.put_back(&old);
+                    return Err(e);
+                }
+            };
+            old.push((v, self.points[v.index()]));
+            self.points[v.index()] = q;
+            moved[v.index()] = true;
+        }
+        Ok((old, moved))
+    }
+
+    /// Undoes [`Self::place_vertices`] given the old positions it returned.
+    pub(crate) fn put_back(&mut self, old: &OldPositions<D>) {
+        for &(u, q) in old.iter().rev() {
+            self.points[u.index()] = q;
+        }
+    }
+
     /// Inserts an internal (scaled) point with the given input index.
     pub(crate) fn insert_scaled(&mut self, p: D::Point, input: u32) -> Insertion {
         let start = match self.locate_from(p, self.last) {
@@ -636,38 +684,23 @@ impl<D: Dim> Triangulation<D> {
 
     /// Bowyer–Watson insertion of the internal point `p` whose cavity never crosses a facet
     /// for which `blocked` is true (a protected boundary face): the insertion step of a
-    /// constrained triangulation. `starts` are in the cavity whatever the test says: the finite
-    /// cell containing `p` (from a walk), or the cells around an edge `p` splits. If
+    /// constrained triangulation. `start` is the finite cell containing `p` (from a walk). If
     /// `p` does not see every boundary facet of that cavity strictly (it lies on a blocked
     /// facet, a blocked facet of a non-convex boundary faces away from it, or the cavity
     /// reaches both sides of a blocked facet), nothing changes and `None` is returned:
     /// shrinking the cavity instead would leave cells whose circumsphere holds `p`. After
     /// success, `self.cavity.boundary[k]` is the facet `self.cavity.new_cells[k]` was built on,
-    /// and `self.cavity.inside[k]` the cavity cell it belonged to (now freed), for the caller's
-    /// per-cell data.
+    /// for the caller's per-cell data.
     pub(crate) fn insert_blocked(
         &mut self,
         p: D::Point,
         input: u32,
-        starts: &[CellId],
+        start: CellId,
         blocked: impl Fn(FacetRef) -> bool,
     ) -> Option<VertexId> {
-        let mut cavity = std::mem::take(&mut self.cavity);
-        cavity.touched.clear();
-        cavity.cells.clear();
-        cavity.stack.clear();
-        cavity.boundary.clear();
-        cavity.inside.clear();
+        let mut cavity = self.seed_cavity(&[start]);
         let v = VertexId(self.input_index.len() as u32);
         let mut star_shaped = true;
-        for &start in starts {
-            if self.mark[start.index()] != INSIDE {
-                cavity.stack.push(start);
-                cavity.cells.push(start);
-                cavity.touched.push(start);
-                self.mark[start.index()] = INSIDE;
-            }
-        }
         'search: while let Some(c) = cavity.stack.pop() {
             let cell = self.simplices[c.index()];
             for f in 0..D::C {
@@ -707,9 +740,39 @@ impl<D: Dim> Triangulation<D> {
                     apex: f as u8,
                     outside: across,
                 });
-                cavity.inside.push(c);
             }
         }
+        self.commit_cavity(cavity, star_shaped, p, input)
+    }
+
+    /// The cavity buffers, cleared, with `starts` in the cavity (marked inside, to search from).
+    fn seed_cavity(&mut self, starts: &[CellId]) -> Cavity {
+        let mut cavity = std::mem::take(&mut self.cavity);
+        cavity.touched.clear();
+        cavity.cells.clear();
+        cavity.stack.clear();
+        cavity.boundary.clear();
+        cavity.inside.clear();
+        for &start in starts {
+            if self.mark[start.index()] != INSIDE {
+                cavity.stack.push(start);
+                cavity.cells.push(start);
+                cavity.touched.push(start);
+                self.mark[start.index()] = INSIDE;
+            }
+        }
+        cavity
+    }
+
+    /// Ends a blocked search: the marks it set are cleared, and if the cavity is
+    /// `star_shaped`, `p` is inserted into it (the new vertex returned); else nothing changes.
+    fn commit_cavity(
+        &mut self,
+        cavity: Cavity,
+        star_shaped: bool,
+        p: D::Point,
+        input: u32,
+    ) -> Option<VertexId> {
         for &c in &cavity.touched {
             self.mark[c.index()] = UNSEEN;
         }
@@ -721,8 +784,7 @@ impl<D: Dim> Triangulation<D> {
             self.mark[c.index()] = INSIDE;
         }
         self.cavity = cavity;
-        let pushed = self.push_vertex(p, input);
-        debug_assert_eq!(pushed, v);
+        let v = self.push_vertex(p, input);
         self.fill_cavity();
         Some(v)
     }
@@ -745,21 +807,8 @@ impl<D: Dim> Triangulation<D> {
         avoided: impl Fn(FacetRef) -> bool,
         keep_one_of: &[Vec<CellId>],
     ) -> Option<VertexId> {
-        let mut cavity = std::mem::take(&mut self.cavity);
-        cavity.touched.clear();
-        cavity.cells.clear();
-        cavity.stack.clear();
-        cavity.boundary.clear();
-        cavity.inside.clear();
+        let mut cavity = self.seed_cavity(starts);
         let v = VertexId(self.input_index.len() as u32);
-        for &start in starts {
-            if self.mark[start.index()] != INSIDE {
-                cavity.stack.push(start);
-                cavity.cells.push(start);
-                cavity.touched.push(start);
-                self.mark[start.index()] = INSIDE;
-            }
-        }
         // The conflict region, not crossing blocked facets.
         while let Some(c) = cavity.stack.pop() {
             let cell = self.simplices[c.index()];
@@ -832,21 +881,7 @@ impl<D: Dim> Triangulation<D> {
                 }
             }
         }
-        for &c in &cavity.touched {
-            self.mark[c.index()] = UNSEEN;
-        }
-        if !star_shaped {
-            self.cavity = cavity;
-            return None;
-        }
-        for &c in &cavity.cells {
-            self.mark[c.index()] = INSIDE;
-        }
-        self.cavity = cavity;
-        let pushed = self.push_vertex(p, input);
-        debug_assert_eq!(pushed, v);
-        self.fill_cavity();
-        Some(v)
+        self.commit_cavity(cavity, star_shaped, p, input)
     }
 
     /// Steps 6–8: one new cell per boundary facet (the facet joined to the new vertex), glued to

@@ -219,10 +219,10 @@ pub enum Restoration3 {
     Flips {
         /// The flips (`failing`: the faces that failed before the first flip; `left`: 0).
         flips: Flips3,
-        /// Edges split, and how many of them were boundary edges (their new vertex is on the
-        /// surface, and the boundary faces on them were split in two).
+        /// Edges split at their mid-points.
         split_edges: usize,
-        /// Of `split_edges`, the boundary edges.
+        /// Of `split_edges`, the boundary edges: their new vertex is on the surface, and the
+        /// boundary faces on them were split in two.
         surface_points: usize,
     },
     /// The splits did not converge (see [`restore_after_smoothing`]), so the final points
@@ -241,8 +241,8 @@ pub const MAX_SPLIT_ROUNDS: usize = 32;
 /// Makes `mesh` constrained Delaunay again after smoothing moved its points to
 /// `arrays.coords` (`arrays` is `mesh.to_arrays()` with the smoothed coordinates). The points
 /// are moved in the mesh and the faces that fail the insphere test are flipped
-/// ([`delmesh_delaunay_core::ConstrainedTriangulation3::make_delaunay`]; inside the domain
-/// only, never across a boundary face). Flips can stop short in 3D, typically at a boundary
+/// ([`delmesh_delaunay_core::ConstrainedTriangulation3::make_delaunay`]; never across a
+/// boundary face, so no element leaves its region). Flips can stop short in 3D, typically at a boundary
 /// edge with only two elements around it whose shared face fails: such an edge is split at
 /// its mid-point ([`Mesh3::split_edge`], as the paper's recovery splits a missing edge) and
 /// the flips go on. Also mends the faces that point generation left failing next to the
