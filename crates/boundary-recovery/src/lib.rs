@@ -30,6 +30,7 @@ mod classify3;
 mod error;
 mod mesh;
 mod mesh3;
+mod planar;
 mod plc;
 mod plc3;
 mod recovery;

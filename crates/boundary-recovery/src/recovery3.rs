@@ -4,6 +4,11 @@
 //! The surface points (and any field points given) are triangulated; then the paper's edge and
 //! face checking runs until every surface triangle is a union of faces of the tetrahedralisation:
 //!
+//! 0. **Planar patches.** Where two surface triangles of one polygon facet (or, with
+//!    [`BoundaryRecovery3::merge_coplanar`], of any two facets with the same marker) lie exactly
+//!    in one plane, their shared diagonal is flipped to the Delaunay one, or to the one the
+//!    tetrahedralisation holds (see [`crate::planar`]): the region is the same, and the diagonal
+//!    the input happened to have need not be recovered.
 //! 1. **Edges.** Every surface edge (a *segment*) must be a union of tetrahedron edges. Each
 //!    missing sub-segment is split, and the passes repeat until none is missing. The split is
 //!    the mid-point, except next to an input vertex, where it is the point at the power-of-two
@@ -40,6 +45,7 @@
 use crate::apriori3::a_priori_points;
 use crate::classify3::{classify3, OUTSIDE};
 use crate::error::RecoveryError;
+use crate::planar::{flip_planar_diagonals, Patches};
 use crate::plc3::Plc3;
 use crate::recovery::merged_list;
 use crate::surface::{check_surface, CheckedSurface, PointLocation};
@@ -101,6 +107,10 @@ pub struct RecoveryHistory3 {
     pub reoriented_triangles: usize,
     /// Surface triangles of the input.
     pub surface_faces: usize,
+    /// Diagonals flipped in planar patches of the surface before recovery (the triangles of
+    /// one polygon facet, or with [`BoundaryRecovery3::merge_coplanar`] any coplanar
+    /// neighbours with the same marker): the re-triangulated surface is what is recovered.
+    pub planar_flips: usize,
     /// Edges of the input surface.
     pub surface_edges: usize,
     /// Tetrahedra of the first triangulation (all points, before recovery).
@@ -162,6 +172,13 @@ impl fmt::Display for RecoveryHistory3 {
         row(f, "No. of surface faces:", self.surface_faces)?;
         if self.reoriented_triangles > 0 {
             row(f, "  reoriented:", self.reoriented_triangles)?;
+        }
+        if self.planar_flips > 0 {
+            row(
+                f,
+                "  diagonals flipped in planar patches:",
+                self.planar_flips,
+            )?;
         }
         row(f, "No. of surface edges:", self.surface_edges)?;
         if self.method == RecoveryMethod3::APriori {
@@ -304,6 +321,8 @@ pub struct BoundaryRecovery3 {
     sides: Vec<f64>,
     /// Skip the input checks (the surface is known good, e.g. a recovered one).
     trusted: bool,
+    /// Re-triangulate coplanar neighbours of different input facets together.
+    merge_coplanar: bool,
 }
 
 impl Default for BoundaryRecovery3 {
@@ -376,7 +395,18 @@ impl BoundaryRecovery3 {
             max_steiner: None,
             sides: Vec::new(),
             trusted: false,
+            merge_coplanar: false,
         }
+    }
+
+    /// Lets recovery re-triangulate coplanar neighbouring triangles of different input facets
+    /// (same marker, exactly in one plane) by flipping their shared diagonals, as TetGen merges
+    /// coplanar facets by default: the covered surface, its markers and points are unchanged,
+    /// but an input triangle is then not always a union of boundary faces. Without it, only the
+    /// triangles of one (polygon) facet are re-triangulated. See the `planar` module.
+    pub fn merge_coplanar(mut self, merge: bool) -> Self {
+        self.merge_coplanar = merge;
+        self
     }
 
     /// Skips the input checks of [`check_surface`]: for a surface that came out of an earlier
@@ -494,6 +524,24 @@ impl BoundaryRecovery3 {
             Some(t) => t?,
             None => Triangulation3::new(&points)?,
         };
+        // Planar patches re-triangulated by flips before recovery (see `planar`).
+        let patches = if self.merge_coplanar {
+            Patches::AcrossFacets
+        } else {
+            Patches::WithinFacets
+        };
+        let mut flipped = plc.triangles.clone();
+        let planar_flips = flip_planar_diagonals(&plc.points, &mut flipped, &tri, patches);
+        let retriangulated;
+        let plc = if planar_flips > 0 {
+            retriangulated = Plc3 {
+                triangles: flipped,
+                ..plc.clone()
+            };
+            &retriangulated
+        } else {
+            plc
+        };
         let mut state = State::new(tri, plc, self.max_steiner)?;
         // Vertices by where their point came from (duplicates merged).
         let n_extra = extra.len();
@@ -527,6 +575,7 @@ impl BoundaryRecovery3 {
                     .collect()
             }),
             reoriented_triangles: checked.as_ref().map_or(0, |c| c.reoriented.len()),
+            planar_flips,
             ..Default::default()
         };
         state.recover(&mut history)?;
@@ -855,20 +904,16 @@ impl<'a> State<'a> {
                 self.added += 1;
                 // The new cells are the star of `v`; their vertices are the cavity's.
                 self.changes += 1;
-                let mut star = std::mem::take(&mut self.star);
-                self.stars.star(&self.tri, v, &mut star);
                 let n = self.tri.num_vertices();
                 if self.touched.len() < n {
                     self.touched.resize(n, 0);
                 }
-                for &c in &star {
-                    for &u in self.tri.cell(c) {
-                        if !u.is_ghost() {
-                            self.touched[u.index()] = self.changes;
-                        }
+                self.touched[v.index()] = self.changes;
+                for &u in self.tri.last_cavity_vertices() {
+                    if !u.is_ghost() {
+                        self.touched[u.index()] = self.changes;
                     }
                 }
-                self.star = star;
                 Ok(Some(v))
             }
             Insertion::Duplicate(_) => Ok(None),

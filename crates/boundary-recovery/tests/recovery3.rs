@@ -170,8 +170,40 @@ fn area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
 }
 
+/// How boundary faces must cover the input.
+#[derive(Clone, Copy, PartialEq)]
+enum Coverage {
+    /// Each input facet is the union of the boundary faces of that facet.
+    Facets,
+    /// Each plane (with one marker) of the input is covered by boundary faces of that marker
+    /// lying in it, with the same area: what re-triangulating coplanar facets promises.
+    Planes,
+}
+
 /// Everything a recovered mesh must satisfy.
 fn check(plc: &Plc3, mesh: &Mesh3, volume: f64) {
+    check_with(plc, mesh, volume, Coverage::Facets);
+}
+
+/// The plane of a triangle (unit normal and offset, rounded) with its marker: the key of
+/// [`Coverage::Planes`] (the test surfaces' planes are far apart).
+fn plane_key(p: [[f64; 3]; 3], marker: i32) -> (i32, [i64; 4]) {
+    let u = [0, 1, 2].map(|k| p[1][k] - p[0][k]);
+    let v = [0, 1, 2].map(|k| p[2][k] - p[0][k]);
+    let n = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
+    let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    let n = n.map(|x| x / l);
+    let d = n[0] * p[0][0] + n[1] * p[0][1] + n[2] * p[0][2];
+    let r = |x: f64| (x * 1e6).round() as i64;
+    (marker, [r(n[0]), r(n[1]), r(n[2]), r(d)])
+}
+
+/// Everything a recovered mesh must satisfy, with the given coverage of the input.
+fn check_with(plc: &Plc3, mesh: &Mesh3, volume: f64, coverage: Coverage) {
     mesh.ct
         .validate()
         .expect("constrained Delaunay, positive, symmetric");
@@ -196,11 +228,17 @@ fn check(plc: &Plc3, mesh: &Mesh3, volume: f64) {
     );
     // Every facet is the union of its boundary faces: same area, same orientation.
     let mut by_facet: HashMap<u32, f64> = HashMap::new();
+    let mut triangle_of: HashMap<u32, usize> = HashMap::new();
+    for (k, t) in plc.triangles.iter().enumerate() {
+        triangle_of.entry(t.facet).or_insert(k);
+    }
     for (t, &f) in arrays.faces.iter().zip(&arrays.face_facets) {
         let p = t.map(|i| arrays.coords[i as usize]);
         *by_facet.entry(f).or_default() += area(p[0], p[1], p[2]);
-        // Orientation agrees with the input triangle's normal.
-        let q = plc.triangles[f as usize].v.map(|i| plc.points[i as usize]);
+        // Orientation agrees with the input facet's normal.
+        let q = plc.triangles[triangle_of[&f]]
+            .v
+            .map(|i| plc.points[i as usize]);
         let n = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
             let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
             let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
@@ -216,14 +254,35 @@ fn check(plc: &Plc3, mesh: &Mesh3, volume: f64) {
             "face {t:?} flipped"
         );
     }
-    for (f, t) in plc.triangles.iter().enumerate() {
-        let q = t.v.map(|i| plc.points[i as usize]);
-        let want = area(q[0], q[1], q[2]);
-        let got = by_facet.get(&(f as u32)).copied().unwrap_or(0.0);
-        assert!(
-            (got - want).abs() <= 1e-9 * want,
-            "facet {f}: faces cover {got}, facet area {want}"
-        );
+    if coverage == Coverage::Facets {
+        for (f, t) in plc.triangles.iter().enumerate() {
+            let q = t.v.map(|i| plc.points[i as usize]);
+            let want = area(q[0], q[1], q[2]);
+            let got = by_facet.get(&(f as u32)).copied().unwrap_or(0.0);
+            assert!(
+                (got - want).abs() <= 1e-9 * want,
+                "facet {f}: faces cover {got}, facet area {want}"
+            );
+        }
+    } else {
+        let mut want: HashMap<(i32, [i64; 4]), f64> = HashMap::new();
+        for t in &plc.triangles {
+            let q = t.v.map(|i| plc.points[i as usize]);
+            *want.entry(plane_key(q, t.marker)).or_default() += area(q[0], q[1], q[2]);
+        }
+        let mut got: HashMap<(i32, [i64; 4]), f64> = HashMap::new();
+        for (t, f) in arrays.faces.iter().zip(&mesh.faces) {
+            let p = t.map(|i| arrays.coords[i as usize]);
+            *got.entry(plane_key(p, f.marker)).or_default() += area(p[0], p[1], p[2]);
+        }
+        assert_eq!(want.len(), got.len(), "the faces lie in the input's planes");
+        for (k, w) in &want {
+            let g = got.get(k).copied().unwrap_or(0.0);
+            assert!(
+                (g - w).abs() <= 1e-9 * w,
+                "plane {k:?}: faces cover {g}, input {w}"
+            );
+        }
     }
     // The boundary faces are exactly the protected faces.
     assert_eq!(mesh.ct.protected_faces().len(), mesh.faces.len());
@@ -436,5 +495,90 @@ fn field_points_on_the_surface_are_left_out() {
         .unwrap();
     assert_eq!(mesh.history.field_points_on_surface, 2, "{}", mesh.history);
     assert_eq!(mesh.history.field_points, 2);
+    check(&plc, &mesh, 1.0);
+}
+
+#[test]
+fn merged_coplanar_facets_are_retriangulated_and_need_no_points() {
+    // A cube with a cubic hole, both of grid squares: every square's corners are co-circular,
+    // so recovering the input's diagonals needs points wherever the tetrahedralisation chose
+    // the other one; flipping those diagonals needs none.
+    let mut plc = Plc3::default();
+    let (p, t) = box_surface([0.0; 3], [3.0; 3], 6, true);
+    add_surface(&mut plc, &p, &t, 1);
+    let (q, s) = box_surface([1.0; 3], [2.0; 3], 2, true);
+    add_surface(&mut plc, &q, &s, 2);
+    let kept = BoundaryRecovery3::default().run(&plc).unwrap();
+    check(&plc, &kept, 26.0);
+    assert_eq!(kept.history.planar_flips, 0, "one facet per triangle");
+    assert!(kept.history.points_added() > 0, "{}", kept.history);
+    let merged = BoundaryRecovery3::default()
+        .merge_coplanar(true)
+        .run(&plc)
+        .unwrap();
+    check_with(&plc, &merged, 26.0, Coverage::Planes);
+    assert!(merged.history.planar_flips > 0, "{}", merged.history);
+    assert_eq!(merged.history.points_added(), 0, "{}", merged.history);
+    assert!(merged
+        .history
+        .to_string()
+        .contains("diagonals flipped in planar patches"));
+}
+
+#[test]
+fn the_triangles_of_one_polygon_facet_are_retriangulated_without_merging() {
+    // Each grid square is one (quadrilateral) facet, triangulated into two triangles.
+    let (p, t) = box_surface([0.0; 3], [1.0; 3], 4, true);
+    let mut plc = Plc3::default();
+    add_surface(&mut plc, &p, &t, 1);
+    for (k, tr) in plc.triangles.iter_mut().enumerate() {
+        tr.facet = (k / 2) as u32;
+    }
+    let mesh = BoundaryRecovery3::default().run(&plc).unwrap();
+    check_with(&plc, &mesh, 1.0, Coverage::Planes);
+    assert!(mesh.history.planar_flips > 0, "{}", mesh.history);
+    assert_eq!(mesh.history.points_added(), 0, "{}", mesh.history);
+    // Every square is still covered by boundary faces of its own facet.
+    let arrays = mesh.to_arrays();
+    let mut by_facet: HashMap<u32, f64> = HashMap::new();
+    for (t, &f) in arrays.faces.iter().zip(&arrays.face_facets) {
+        let q = t.map(|i| arrays.coords[i as usize]);
+        *by_facet.entry(f).or_default() += area(q[0], q[1], q[2]);
+    }
+    assert_eq!(by_facet.len(), plc.triangles.len() / 2);
+    for a in by_facet.values() {
+        assert!((a - 1.0 / 16.0).abs() < 1e-12, "a square's faces cover {a}");
+    }
+}
+
+#[test]
+fn no_flip_across_a_bend_or_between_markers() {
+    // A sphere has no coplanar neighbours; a box whose triangles all carry different markers
+    // has no flippable pair.
+    let (q, s) = icosphere([0.0; 3], 1.0, 2);
+    let sphere = enclosed_volume(&q, &s);
+    let mut plc = Plc3::default();
+    add_surface(&mut plc, &q, &s, 1);
+    let mesh = BoundaryRecovery3::default()
+        .merge_coplanar(true)
+        .run(&plc)
+        .unwrap();
+    assert_eq!(mesh.history.planar_flips, 0);
+    check(&plc, &mesh, sphere);
+    let (p, t) = box_surface([0.0; 3], [1.0; 3], 3, true);
+    let mut plc = Plc3::default();
+    for (k, tri) in t.iter().enumerate() {
+        plc.triangles.push(SurfaceTriangle {
+            v: *tri,
+            marker: k as i32,
+            facet: k as u32,
+        });
+    }
+    plc.points = p;
+    let mesh = BoundaryRecovery3::default()
+        .merge_coplanar(true)
+        .run(&plc)
+        .unwrap();
+    assert_eq!(mesh.history.planar_flips, 0);
     check(&plc, &mesh, 1.0);
 }

@@ -1120,6 +1120,13 @@ impl<D: Dim> Triangulation<D> {
         self.vertex_of_input[i]
     }
 
+    /// The vertices of the cells the last insertion replaced (the boundary of its cavity; the
+    /// ghost vertex among them on the hull): with the new vertex, the vertices of its star.
+    /// Only meaningful right after an insertion that added a vertex.
+    pub fn last_cavity_vertices(&self) -> &[VertexId] {
+        &self.cavity.verts
+    }
+
     /// Input points that repeat an earlier one: `(duplicate, first occurrence)` input indices,
     /// sorted. The vertex keeps the first occurrence's input index.
     pub fn duplicates(&self) -> &[(usize, usize)] {

@@ -131,6 +131,12 @@ struct MeshArgs {
     /// facets that resisted.
     #[arg(long, value_name = "N")]
     max_steiner: Option<usize>,
+    /// 3D: re-triangulate exactly coplanar neighbouring surface triangles with the same marker
+    /// together (flipping their shared diagonals), as TetGen merges coplanar facets by default:
+    /// fewer points on flat surfaces, but an input triangle is then not always a union of
+    /// boundary faces. Without it only the triangles of one polygon facet are re-triangulated.
+    #[arg(long)]
+    merge_coplanar: bool,
     /// Write the run's report (passes, quality, time per stage) as JSON.
     #[arg(long, value_name = "FILE.json")]
     report: Option<PathBuf>,
@@ -490,6 +496,7 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
             ),
         },
         max_steiner_points: args.max_steiner,
+        merge_coplanar: args.merge_coplanar,
         delaunay: !args.no_flips,
         refinement: (!args.no_refinement).then(QualityRefinement3::default),
         smoothing: if args.no_smoothing {

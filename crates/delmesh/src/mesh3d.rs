@@ -70,6 +70,10 @@ pub struct MeshOptions3 {
     pub sources: Vec<Source3>,
     /// Most points boundary recovery may add before it gives up (`None`: its default bound).
     pub max_steiner_points: Option<usize>,
+    /// Let recovery re-triangulate exactly coplanar neighbouring triangles of different input
+    /// facets (same marker) together, as TetGen merges coplanar facets by default
+    /// ([`BoundaryRecovery3::merge_coplanar`]).
+    pub merge_coplanar: bool,
     /// Radius–edge refinement after point generation (`None`: none; needs generation).
     pub refinement: Option<QualityRefinement3>,
     /// Laplacian smoothing of the field points (`None`: no smoothing).
@@ -88,6 +92,7 @@ impl Default for MeshOptions3 {
             spacing: Spacing3::Boundary,
             sources: Vec::new(),
             max_steiner_points: None,
+            merge_coplanar: false,
             refinement: Some(QualityRefinement3::default()),
             smoothing: Some(Smoother3::new().iterations(SMOOTHING_PASSES)),
             delaunay: true,
@@ -135,8 +140,9 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
         timings.push((name, clock.elapsed().as_secs_f64()));
         clock = Instant::now();
     };
-    let mut recovery =
-        BoundaryRecovery3::new(options.recovery).with_points(options.extra_points.clone());
+    let mut recovery = BoundaryRecovery3::new(options.recovery)
+        .with_points(options.extra_points.clone())
+        .merge_coplanar(options.merge_coplanar);
     if let Some(n) = options.max_steiner_points {
         recovery = recovery.max_steiner_points(n);
     }
@@ -630,11 +636,12 @@ impl MeshRun3 {
                     .collect(),
             );
             format!(
-                "{{\"surface_points\": {}, \"field_points\": {}, \"duplicates_merged\": {}, \"surface_faces\": {}, \"surface_edges\": {}, \"initial_tetrahedra\": {}, \"steps\": {steps}, \"edge_points\": {}, \"face_points\": {}, \"final_surface_edges\": {}, \"final_surface_faces\": {}, \"tetrahedra_outside\": {}, \"tetrahedra_inside\": {}}}",
+                "{{\"surface_points\": {}, \"field_points\": {}, \"duplicates_merged\": {}, \"surface_faces\": {}, \"planar_flips\": {}, \"surface_edges\": {}, \"initial_tetrahedra\": {}, \"steps\": {steps}, \"edge_points\": {}, \"face_points\": {}, \"final_surface_edges\": {}, \"final_surface_faces\": {}, \"tetrahedra_outside\": {}, \"tetrahedra_inside\": {}}}",
                 h.surface_points,
                 h.field_points,
                 h.merged_points.len(),
                 h.surface_faces,
+                h.planar_flips,
                 h.surface_edges,
                 h.initial_tetrahedra,
                 h.edge_points,

@@ -415,7 +415,16 @@ impl CheckReport {
 
 /// The checks of the module docs on `mesh`, a mesh of the solid bounded by `input`
 /// (xtask's reading of the input file, duplicates merged).
+#[cfg(test)]
 pub fn check_mesh(mesh: &TetMesh, input: &Surface) -> CheckReport {
+    check_mesh_with(mesh, input, false)
+}
+
+/// As [`check_mesh`]; with `merged`, coverage is checked per planar patch of the input (its
+/// triangles joined across edges where both lie exactly in one plane, consistently oriented)
+/// instead of per triangle: what re-triangulating coplanar facets (`--merge-coplanar`)
+/// promises.
+pub fn check_mesh_with(mesh: &TetMesh, input: &Surface, merged: bool) -> CheckReport {
     let mut r = CheckReport::default();
     if mesh.tets.is_empty() {
         r.fail("empty".into(), "the mesh has no tetrahedra".into());
@@ -498,8 +507,13 @@ pub fn check_mesh(mesh: &TetMesh, input: &Surface) -> CheckReport {
             ),
         );
     }
-    // Coverage of every input triangle by boundary faces.
-    coverage(mesh, input, &mut r);
+    // Coverage of every input triangle (or planar patch) by boundary faces.
+    let patches = if merged {
+        planar_patches(input)
+    } else {
+        (0..input.triangles.len() as u32).collect()
+    };
+    coverage(mesh, input, &patches, &mut r);
     // Topology.
     let euler = mesh.euler_characteristic();
     r.euler = euler;
@@ -523,8 +537,49 @@ pub fn check_mesh(mesh: &TetMesh, input: &Surface) -> CheckReport {
     r
 }
 
-/// Maps every boundary face to the input triangle it lies on and compares areas.
-fn coverage(mesh: &TetMesh, input: &Surface, r: &mut CheckReport) {
+/// The planar patch of each input triangle: triangles are joined across an edge of exactly
+/// two triangles that run it in opposite directions and lie exactly in one plane (robust
+/// orient3d), so a patch is a connected planar region. Patch ids are triangle indices.
+fn planar_patches(input: &Surface) -> Vec<u32> {
+    let mut parent: Vec<u32> = (0..input.triangles.len() as u32).collect();
+    fn find(p: &mut [u32], mut x: u32) -> u32 {
+        while p[x as usize] != x {
+            p[x as usize] = p[p[x as usize] as usize];
+            x = p[x as usize];
+        }
+        x
+    }
+    let mut edges: HashMap<(u32, u32), Vec<(u32, u32)>> = HashMap::new();
+    for (k, t) in input.triangles.iter().enumerate() {
+        for m in 0..3 {
+            let (a, b) = (t[m], t[(m + 1) % 3]);
+            edges
+                .entry((a.min(b), a.max(b)))
+                .or_default()
+                .push((k as u32, t[(m + 2) % 3]));
+        }
+    }
+    for (&(a, b), on) in &edges {
+        let [(t1, c), (t2, d)] = on[..] else { continue };
+        let runs = |t: u32| {
+            let v = input.triangles[t as usize];
+            (0..3).any(|m| v[m] == a && v[(m + 1) % 3] == b)
+        };
+        let p = |v: u32| coord(input.points[v as usize]);
+        if runs(t1) != runs(t2) && robust::orient3d(p(a), p(b), p(c), p(d)) == 0.0 {
+            let (x, y) = (find(&mut parent, t1), find(&mut parent, t2));
+            parent[x as usize] = y;
+        }
+    }
+    (0..input.triangles.len() as u32)
+        .map(|t| find(&mut parent, t))
+        .collect()
+}
+
+/// Maps every boundary face to the input triangle it lies on (with `patches` other than the
+/// identity, to the patch all its corners and its centroid lie on) and compares areas per
+/// patch.
+fn coverage(mesh: &TetMesh, input: &Surface, patches: &[u32], r: &mut CheckReport) {
     let tol = RTOL * input.diagonal();
     let grid = TriangleGrid::new(input, tol);
     let corners = |t: [u32; 3]| t.map(|v| input.points[v as usize]);
@@ -551,8 +606,8 @@ fn coverage(mesh: &TetMesh, input: &Surface, r: &mut CheckReport) {
             let v = [v[0]?, v[1]?, v[2]?];
             by_corners.get(&sorted3(v)).copied()
         })();
-        let owner = exact.or_else(|| {
-            let centroid = [0, 1, 2].map(|k| (p[0][k] + p[1][k] + p[2][k]) / 3.0);
+        let centroid = [0, 1, 2].map(|k| (p[0][k] + p[1][k] + p[2][k]) / 3.0);
+        let owner = exact.map(|ti| patches[ti as usize]).or_else(|| {
             grid.near(centroid)
                 .iter()
                 .map(|&ti| {
@@ -565,10 +620,24 @@ fn coverage(mesh: &TetMesh, input: &Surface, r: &mut CheckReport) {
                 })
                 .filter(|&(d, _)| d <= tol)
                 .min_by(|a, b| a.0.total_cmp(&b.0))
-                .map(|(_, ti)| ti)
+                .map(|(_, ti)| patches[ti as usize])
+        });
+        // A face of a re-triangulated patch may straddle its input triangles: it belongs to
+        // the patch when its centroid and every corner lie on triangles of that patch.
+        let on_patch = |q: [f64; 3], patch: u32| {
+            grid.near(q).iter().any(|&ti| {
+                patches[ti as usize] == patch
+                    && distance_to_triangle(q, corners(input.triangles[ti as usize])) <= tol
+            })
+        };
+        let owner = owner.or_else(|| {
+            grid.near(centroid)
+                .iter()
+                .map(|&ti| patches[ti as usize])
+                .find(|&patch| on_patch(centroid, patch) && p.iter().all(|&q| on_patch(q, patch)))
         });
         match owner {
-            Some(ti) => covered[ti as usize].add(area),
+            Some(patch) => covered[patch as usize].add(area),
             None => stray.push(fi),
         }
     }
@@ -582,11 +651,18 @@ fn coverage(mesh: &TetMesh, input: &Surface, r: &mut CheckReport) {
             ),
         );
     }
-    let mut bad = 0;
-    let mut worst: Option<(f64, usize, f64, f64)> = None;
+    let mut wanted = vec![Sum::default(); input.triangles.len()];
     for (ti, &t) in input.triangles.iter().enumerate() {
         let [a, b, c] = corners(t);
-        let want = triangle_area(a, b, c);
+        wanted[patches[ti] as usize].add(triangle_area(a, b, c));
+    }
+    let mut bad = 0;
+    let mut worst: Option<(f64, usize, f64, f64)> = None;
+    for ti in 0..input.triangles.len() {
+        if patches[ti] as usize != ti {
+            continue;
+        }
+        let want = wanted[ti].value();
         let got = covered[ti].value();
         let rel = (got - want).abs() / want;
         // NaN (a zero-area input triangle) counts as a mismatch.
@@ -739,6 +815,30 @@ mod tests {
         }
         let r = check_mesh(&m, &s);
         assert!(r.failures.is_empty(), "{:?}", r.failures);
+    }
+
+    #[test]
+    fn merged_coverage_is_per_planar_patch() {
+        // The input's bottom square split along the other diagonal (1-3) than the mesh's
+        // faces (0-2): not a union of faces per triangle, but per plane it is.
+        let (mut s, m) = cube_mesh();
+        s.triangles[0] = [0, 3, 1];
+        s.triangles[1] = [1, 3, 2];
+        let f = check_mesh_with(&m, &s, false).failures.join("\n");
+        assert!(f.contains("coverage:"), "{f}");
+        let r = check_mesh_with(&m, &s, true);
+        assert!(r.failures.is_empty(), "{:?}", r.failures);
+        // Planar patches: the six sides, each of two triangles.
+        let patches = planar_patches(&s);
+        let mut roots = patches.clone();
+        roots.sort_unstable();
+        roots.dedup();
+        assert_eq!(roots.len(), 6);
+        // A face off the bottom plane is still caught.
+        let mut bad = m.clone();
+        bad.points[1][2] += 1e-3;
+        let f = check_mesh_with(&bad, &s, true).failures.join("\n");
+        assert!(f.contains("lie on no input triangle"), "{f}");
     }
 
     #[test]

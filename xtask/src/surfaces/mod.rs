@@ -233,6 +233,8 @@ struct Outcome {
     /// How TetGen was fed: `raw` or `cleaned (...)`.
     tetgen_input: String,
     rec_dm: Option<Run>,
+    /// `delmesh --merge-coplanar`: coplanar facets re-triangulated (checked per planar patch).
+    rec_dmm: Option<Run>,
     rec_tg: Option<Run>,
     /// `tetgen -pMQ`: no merging of coplanar facets, so every input triangle must be
     /// recovered, as delmesh does.
@@ -281,6 +283,7 @@ fn run_delmesh(
     dir: &Path,
     name: &str,
     recovery_only: bool,
+    merge_coplanar: bool,
     limit: u64,
 ) -> Result<(Run, PathBuf)> {
     fs::create_dir_all(dir)?;
@@ -298,6 +301,9 @@ fn run_delmesh(
     args.extend([os("--report"), os(&json), os("--quiet")]);
     if recovery_only {
         args.push(os("--no-points"));
+    }
+    if merge_coplanar {
+        args.push(os("--merge-coplanar"));
     }
     let timed = tools::run_timed(bin, &args, &dir.join(format!("{name}.time")), limit)?;
     let mut run = Run {
@@ -388,7 +394,9 @@ fn run_tetgen(switches: &str, input: &Path, dir: &Path, limit: u64) -> Result<(R
 
 /// Reads a successful run's mesh back, checks it against `input` and measures its
 /// quality (`quality`: only for the full pipeline).
-fn read_back(run: &mut Run, ele: &Path, input: &Surface, quality: bool) {
+/// Reads a tool's mesh back and checks it (`merged`: coverage per planar patch of the input,
+/// see [`mesh::check_mesh_with`]).
+fn read_back(run: &mut Run, ele: &Path, input: &Surface, quality: bool, merged: bool) {
     if !run.timed.success {
         return;
     }
@@ -410,7 +418,7 @@ fn read_back(run: &mut Run, ele: &Path, input: &Surface, quality: bool) {
                     m.points.len()
                 );
             }
-            run.checks = Some(mesh::check_mesh(&m, input));
+            run.checks = Some(mesh::check_mesh_with(&m, input, merged));
             if quality {
                 run.quality = mesh::quality(&m);
             }
@@ -435,6 +443,7 @@ fn run_case(ctx: &Ctx, bin: &Path, meshes: Option<&Path>, case: Case, lim: u64) 
         intersecting: Vec::new(),
         tetgen_input: String::new(),
         rec_dm: None,
+        rec_dmm: None,
         rec_tg: None,
         rec_tgm: None,
         full_dm: None,
@@ -526,9 +535,10 @@ fn run_case_inner(
         &dir.join("recovery-delmesh"),
         name,
         true,
+        false,
         lim,
     )?;
-    read_back(&mut dm, &dm_ele, &input, false);
+    read_back(&mut dm, &dm_ele, &input, false, false);
     eprintln!("xtask: {name}: tetgen -pQ");
     let tg_dir = dir.join("recovery-tetgen");
     // Voids need TetGen's hole list, which only its own formats carry.
@@ -554,7 +564,7 @@ fn run_case_inner(
         tg_points_in = input.points.len();
         o.tetgen_input = format!("cleaned (raw: {})", short_status(&first));
     }
-    read_back(&mut tg, &tg_ele, &input, false);
+    read_back(&mut tg, &tg_ele, &input, false, false);
     if tg.ok {
         tg.steiner = tg.points.map(|p| p.saturating_sub(tg_points_in) as u64);
         remove_mesh(&tg_ele);
@@ -564,7 +574,7 @@ fn run_case_inner(
     // edges and moves nearly coplanar ones).
     eprintln!("xtask: {name}: tetgen -pMQ");
     let (mut tgm, tgm_ele) = run_tetgen("-pMQ", &tg_input, &dir.join("recovery-tetgen-M"), lim)?;
-    read_back(&mut tgm, &tgm_ele, &input, false);
+    read_back(&mut tgm, &tgm_ele, &input, false, false);
     if tgm.ok {
         tgm.steiner = tgm.points.map(|p| p.saturating_sub(tg_points_in) as u64);
     }
@@ -577,14 +587,39 @@ fn run_case_inner(
     }
     o.rec_dm = Some(dm);
     o.rec_tg = Some(tg);
+    // delmesh re-triangulating coplanar facets, as TetGen's default does (against -pQ).
+    if dm_ok {
+        eprintln!("xtask: {name}: delmesh mesh --no-points --merge-coplanar");
+        let (mut dmm, dmm_ele) = run_delmesh(
+            bin,
+            &raw_path,
+            &dir.join("recovery-delmesh-merged"),
+            name,
+            true,
+            true,
+            lim,
+        )?;
+        read_back(&mut dmm, &dmm_ele, &input, false, true);
+        if dmm.checks.as_ref().is_some_and(|c| c.failures.is_empty()) && dmm.why.is_empty() {
+            remove_mesh(&dmm_ele);
+        }
+        o.rec_dmm = Some(dmm);
+    }
 
     // 2. Full pipeline, for the tools that recovered the surface.
     // A self-intersecting input has no meaningful full pipeline.
     if dm_ok && case.expect == Expect::Mesh {
         eprintln!("xtask: {name}: delmesh mesh");
-        let (mut dm, ele) =
-            run_delmesh(bin, &raw_path, &dir.join("full-delmesh"), name, false, lim)?;
-        read_back(&mut dm, &ele, &input, true);
+        let (mut dm, ele) = run_delmesh(
+            bin,
+            &raw_path,
+            &dir.join("full-delmesh"),
+            name,
+            false,
+            false,
+            lim,
+        )?;
+        read_back(&mut dm, &ele, &input, true, false);
         if dm.checks.as_ref().is_some_and(|c| c.failures.is_empty()) && dm.why.is_empty() {
             remove_mesh(&ele);
         }
@@ -593,7 +628,7 @@ fn run_case_inner(
     if tg_ok {
         eprintln!("xtask: {name}: tetgen -pqQ");
         let (mut tg, ele) = run_tetgen("-pqQ", &tg_input, &dir.join("full-tetgen"), lim)?;
-        read_back(&mut tg, &ele, &input, true);
+        read_back(&mut tg, &ele, &input, true, false);
         if tg.ok {
             tg.steiner = tg.points.map(|p| p.saturating_sub(tg_points_in) as u64);
         }
@@ -692,7 +727,11 @@ fn judge(o: &mut Outcome) {
             }
         }
         Expect::Mesh => {
-            for (stage, run) in [("recovery", &o.rec_dm), ("full pipeline", &o.full_dm)] {
+            for (stage, run) in [
+                ("recovery", &o.rec_dm),
+                ("recovery --merge-coplanar", &o.rec_dmm),
+                ("full pipeline", &o.full_dm),
+            ] {
                 let Some(run) = run else { continue };
                 if !run.ok {
                     let target = if tg_recovers && stage == "recovery" {
@@ -783,13 +822,18 @@ const RECOVERY_HEADER: &[&str] = &[
     "tg -M Steiner",
     "tg -M tets",
     "tg -M wall s",
+    "dm -m Steiner",
+    "dm -m wall s",
+    "dm -m recovery s",
     "delmesh checks",
+    "dm -m checks",
     "TetGen checks",
     "TetGen -M checks",
 ];
 
 fn recovery_row(o: &Outcome) -> Vec<String> {
     let (dm, tg, tgm) = (o.rec_dm.as_ref(), o.rec_tg.as_ref(), o.rec_tgm.as_ref());
+    let dmm = o.rec_dmm.as_ref();
     let (vf, chi) = match o.input {
         Some((v, f, chi, bodies)) => (
             format!("{v}/{f}"),
@@ -832,7 +876,14 @@ fn recovery_row(o: &Outcome) -> Vec<String> {
         },
         opt(tgm.and_then(|r| r.tets)),
         s3(tgm.and_then(|r| r.timed.wall)),
+        match dmm {
+            Some(r) if !r.ok => r.recovered(),
+            _ => opt(dmm.and_then(|r| r.steiner)),
+        },
+        s3(dmm.and_then(|r| r.timed.wall)),
+        s3(dmm.and_then(|r| r.recovery_secs)),
         verdict(o, &o.rec_dm),
+        verdict(o, &o.rec_dmm),
         tg.map_or("-".into(), |r| r.checks_cell_as("differs")),
         tgm.map_or("-".into(), |r| r.checks_cell_as("differs")),
     ]
@@ -921,7 +972,10 @@ Recovery: `delmesh mesh X.off --no-points -o X.ele --report X.json --quiet`, `te
 and `tetgen -pMQ X` (-M: coplanar facets are not merged, so every input triangle must be \
 recovered, as delmesh does; TetGen's default merges facets coplanar within its -T \
 tolerance 1e-8 and re-triangulates them, so it need not recover their shared edges, and \
-moves the nearly coplanar ones). Full pipeline: `delmesh mesh X.off -o X.ele --report X.json \
+moves the nearly coplanar ones); `dm -m`: `delmesh mesh X.off --no-points --merge-coplanar`, \
+which re-triangulates exactly coplanar neighbouring triangles by flipping their diagonals \
+(the one to compare with `tetgen -pQ`; its coverage is checked per planar patch of the input: \
+triangles joined across edges where both lie exactly in one plane). Full pipeline: `delmesh mesh X.off -o X.ele --report X.json \
 --quiet` (automatic points, Delaunay restoration) and `tetgen -pqQ X` (radius-edge bound 2). \
 X is the raw .off, except `[.smesh with 1 hole point]` (a void, which an .off cannot mark \
 for TetGen; delmesh finds it by nesting) and `[cleaned (raw: abort)]` (TetGen 1.5 aborts on \

@@ -1,0 +1,252 @@
+//! Re-triangulation of planar patches of the surface before recovery, by diagonal flips.
+//!
+//! Where two surface triangles `a b c` and `b a d` lie exactly in one plane, the region they
+//! cover is the same whichever diagonal (`a b` or `c d`) splits it, so the diagonal need not be
+//! recovered as it is: it may be flipped. Two kinds of flip are made, both only across an edge
+//! whose two triangles are exactly coplanar (exact `orient3d`), carry the same marker, turn the
+//! same way and form a strictly convex quadrilateral:
+//!
+//! 1. **Delaunay flips** (Lawson's): `a b` is flipped when `d` lies strictly inside the circle
+//!    through `a, b, c`. The patch becomes the Delaunay triangulation of its points in its plane
+//!    (constrained to the edges where the surface bends), whose edges the tetrahedralisation
+//!    holds unless a point off the plane is close by.
+//! 2. **Flips to the tetrahedralisation's choice**: `a b` is flipped when it is not an edge of
+//!    the tetrahedralisation and `c d` is. After the Delaunay flips only ties are left (four
+//!    co-circular points, such as the squares of a structured grid), where the
+//!    tetrahedralisation's symbolic perturbation picked the other diagonal.
+//!
+//! Without either, every such edge would be recovered by splitting it, and in a flat patch a
+//! split edge's halves are no better placed than the edge was: the splits cascade (a box far
+//! field made of a regular grid took hundreds of Steiner points; it now takes none).
+//!
+//! Flips stay within one input facet (the triangles of a polygon facet, which delmesh
+//! triangulated itself), unless merging of coplanar facets is asked for, as TetGen does by
+//! default: then any two coplanar triangles with the same marker may be re-triangulated. The
+//! covered surface, its markers and its points are unchanged, exactly.
+//!
+//! Termination: a Delaunay flip strictly lowers the lifted triangulation of the (planar) patch,
+//! and a flip to the tetrahedralisation's choice turns a missing edge into a present one while
+//! the tetrahedralisation stays as it is.
+
+use crate::plc3::SurfaceTriangle;
+use delmesh_delaunay_core::{StarSearch, Triangulation3, VertexId};
+use delmesh_predicates::{insphere, orient2d, orient3d, Sign};
+use std::collections::HashMap;
+
+/// Which coplanar triangles may be re-triangulated together.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Patches {
+    /// Only triangles of one input facet.
+    WithinFacets,
+    /// Any coplanar neighbours with the same marker.
+    AcrossFacets,
+}
+
+/// Flips the surface's planar diagonals (see the module docs); returns the number of flips.
+/// `points` are the input points, `triangles` index them; `tri` is the tetrahedralisation of
+/// (at least) those points.
+pub(crate) fn flip_planar_diagonals(
+    points: &[[f64; 3]],
+    triangles: &mut [SurfaceTriangle],
+    tri: &Triangulation3,
+    patches: Patches,
+) -> usize {
+    let vertex = |i: u32| tri.vertex_of_input(i as usize);
+    // Surface edges (by vertex, lower first) and the triangles on each; edges of more than two
+    // triangles are never flipped.
+    let mut edges: HashMap<(VertexId, VertexId), [u32; 2]> = HashMap::new();
+    let key = |a: VertexId, b: VertexId| if a < b { (a, b) } else { (b, a) };
+    const NONE: u32 = u32::MAX;
+    const MANY: u32 = u32::MAX - 1;
+    for (t, tr) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            let e = key(vertex(tr.v[k]), vertex(tr.v[(k + 1) % 3]));
+            let slot = edges.entry(e).or_insert([NONE, NONE]);
+            if slot[0] == NONE {
+                slot[0] = t as u32;
+            } else if slot[1] == NONE {
+                slot[1] = t as u32;
+            } else {
+                *slot = [MANY, MANY];
+            }
+        }
+    }
+    let corners = box_corners(points);
+    let mut flips = 0;
+    let mut stars = StarSearch::default();
+    let mut star = Vec::new();
+    let mut in_tri = |a: VertexId, b: VertexId| {
+        stars.star(tri, a, &mut star);
+        star.iter().any(|&c| tri.cell(c).contains(&b))
+    };
+    for stage in [Stage::Delaunay, Stage::Tetrahedralisation] {
+        let mut queue: Vec<(VertexId, VertexId)> = edges.keys().copied().collect();
+        queue.sort_unstable();
+        while let Some(e) = queue.pop() {
+            let Some(&[t1, t2]) = edges.get(&e) else {
+                continue;
+            };
+            if t1 >= MANY || t2 >= MANY {
+                continue;
+            }
+            let Some(q) = Quad::of(triangles, t1 as usize, t2 as usize, e, &vertex) else {
+                continue;
+            };
+            let (s1, s2) = (triangles[q.t1], triangles[q.t2]);
+            if s1.marker != s2.marker || (patches == Patches::WithinFacets && s1.facet != s2.facet)
+            {
+                continue;
+            }
+            let p = |i: u32| points[i as usize];
+            let (pa, pb, pc, pd) = (p(q.a), p(q.b), p(q.c), p(q.d));
+            if edges.contains_key(&key(vertex(q.c), vertex(q.d))) || !flippable(pa, pb, pc, pd) {
+                continue;
+            }
+            let flip = match stage {
+                Stage::Delaunay => in_circle(pa, pb, pc, pd, &corners),
+                Stage::Tetrahedralisation => !in_tri(e.0, e.1) && in_tri(vertex(q.c), vertex(q.d)),
+            };
+            if !flip {
+                continue;
+            }
+            // a b c, b a d  ->  a d c, d b c (both turn as before).
+            triangles[q.t1].v = [q.a, q.d, q.c];
+            triangles[q.t2].v = [q.d, q.b, q.c];
+            edges.remove(&e);
+            let (va, vb, vc, vd) = (vertex(q.a), vertex(q.b), vertex(q.c), vertex(q.d));
+            edges.insert(key(vc, vd), [q.t1 as u32, q.t2 as u32]);
+            // b c moves from t1 to t2, a d from t2 to t1.
+            for (x, y, from, to) in [(vb, vc, q.t1, q.t2), (va, vd, q.t2, q.t1)] {
+                if let Some(slot) = edges.get_mut(&key(x, y)) {
+                    for s in slot.iter_mut() {
+                        if *s == from as u32 {
+                            *s = to as u32;
+                        }
+                    }
+                }
+            }
+            queue.extend([key(va, vc), key(vc, vb), key(vb, vd), key(vd, va)]);
+            flips += 1;
+        }
+    }
+    flips
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Stage {
+    Delaunay,
+    Tetrahedralisation,
+}
+
+/// Two triangles `t1 = a b c` and `t2 = b a d` on the edge `a b` (input point indices).
+struct Quad {
+    t1: usize,
+    t2: usize,
+    a: u32,
+    b: u32,
+    c: u32,
+    d: u32,
+}
+
+impl Quad {
+    /// The quadrilateral around edge `e` (by vertex), `None` unless the two triangles run the
+    /// edge in opposite directions (a consistently oriented pair).
+    fn of(
+        triangles: &[SurfaceTriangle],
+        t1: usize,
+        t2: usize,
+        e: (VertexId, VertexId),
+        vertex: &impl Fn(u32) -> VertexId,
+    ) -> Option<Quad> {
+        let f = triangles[t1].v;
+        let g = triangles[t2].v;
+        let k = (0..3).find(|&k| {
+            let (x, y) = (vertex(f[k]), vertex(f[(k + 1) % 3]));
+            (x, y) == e || (y, x) == e
+        })?;
+        let (a, b, c) = (f[k], f[(k + 1) % 3], f[(k + 2) % 3]);
+        let j =
+            (0..3).find(|&j| vertex(g[j]) == vertex(b) && vertex(g[(j + 1) % 3]) == vertex(a))?;
+        Some(Quad {
+            t1,
+            t2,
+            a,
+            b,
+            c,
+            d: g[(j + 2) % 3],
+        })
+    }
+}
+
+/// Whether `a b c` and `b a d` lie in one plane, turn the same way in it, and `a c b d` is a
+/// strictly convex quadrilateral (so that `a d c`, `d b c` cover the same region). Exact.
+fn flippable(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> bool {
+    if orient3d(a, b, c, d) != Sign::Zero {
+        return false;
+    }
+    // Drop the coordinate along which the plane's normal is largest: the projection is then an
+    // affine bijection of the plane, so orientations keep their signs (up to one common sign).
+    let n = cross(sub(b, a), sub(c, a));
+    let drop = (0..3)
+        .max_by(|&i, &j| n[i].abs().total_cmp(&n[j].abs()))
+        .unwrap_or(2);
+    let pr = |p: [f64; 3]| match drop {
+        0 => [p[1], p[2]],
+        1 => [p[2], p[0]],
+        _ => [p[0], p[1]],
+    };
+    let (a, b, c, d) = (pr(a), pr(b), pr(c), pr(d));
+    let s = orient2d(a, b, c);
+    s != Sign::Zero && orient2d(b, a, d) == s && orient2d(a, d, c) == s && orient2d(d, b, c) == s
+}
+
+/// Whether `d` (in the plane of `a, b, c`) lies strictly inside the circle through `a, b, c`:
+/// the exact in-sphere test against the sphere through `a, b, c` and a point `e` off their
+/// plane (whose intersection with the plane is that circle). `e` is a corner of the points'
+/// bounding box: not all eight lie in one plane.
+fn in_circle(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3], corners: &[[f64; 3]; 8]) -> bool {
+    let n = cross(sub(b, a), sub(c, a));
+    let mut order: [usize; 8] = std::array::from_fn(|i| i);
+    let height = |e: [f64; 3]| dot(n, sub(e, a)).abs();
+    order.sort_by(|&i, &j| height(corners[j]).total_cmp(&height(corners[i])));
+    for i in order {
+        let e = corners[i];
+        let side = orient3d(a, b, c, e);
+        if side != Sign::Zero {
+            let s = insphere(a, b, c, e, d);
+            return if side == Sign::Positive {
+                s == Sign::Positive
+            } else {
+                s == Sign::Negative
+            };
+        }
+    }
+    false
+}
+
+fn box_corners(points: &[[f64; 3]]) -> [[f64; 3]; 8] {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in points {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    std::array::from_fn(|i| [0, 1, 2].map(|k| if i >> k & 1 == 0 { lo[k] } else { hi[k] }))
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
