@@ -51,6 +51,14 @@ pub(crate) fn flip_planar_diagonals(
     tri: &Triangulation3,
     patches: Patches,
 ) -> usize {
+    if patches == Patches::WithinFacets {
+        // Nothing to do unless some facet has several triangles (a triangle soup has none).
+        let mut facets: Vec<u32> = triangles.iter().map(|t| t.facet).collect();
+        facets.sort_unstable();
+        if facets.windows(2).all(|w| w[0] != w[1]) {
+            return 0;
+        }
+    }
     let vertex = |i: u32| tri.vertex_of_input(i as usize);
     // Surface edges (by vertex, lower first) and the triangles on each; edges of more than two
     // triangles are never flipped.
@@ -79,9 +87,26 @@ pub(crate) fn flip_planar_diagonals(
         stars.star(tri, a, &mut star);
         star.iter().any(|&c| tri.cell(c).contains(&b))
     };
+    // The edges worth looking at: those between two coplanar triangles allowed to merge (one
+    // exact test per edge), and later the edges of the triangles a flip made.
+    let p = |i: u32| points[i as usize];
+    let mut maybe: Vec<(VertexId, VertexId)> = edges
+        .iter()
+        .filter(|&(&e, &[t1, t2])| {
+            t1 < MANY
+                && t2 < MANY
+                && Quad::of(triangles, t1 as usize, t2 as usize, e, &vertex).is_some_and(|q| {
+                    let (s1, s2) = (triangles[q.t1], triangles[q.t2]);
+                    s1.marker == s2.marker
+                        && (patches == Patches::AcrossFacets || s1.facet == s2.facet)
+                        && orient3d(p(q.a), p(q.b), p(q.c), p(q.d)) == Sign::Zero
+                })
+        })
+        .map(|(&e, _)| e)
+        .collect();
+    maybe.sort_unstable();
     for stage in [Stage::Delaunay, Stage::Tetrahedralisation] {
-        let mut queue: Vec<(VertexId, VertexId)> = edges.keys().copied().collect();
-        queue.sort_unstable();
+        let mut queue = maybe.clone();
         while let Some(e) = queue.pop() {
             let Some(&[t1, t2]) = edges.get(&e) else {
                 continue;
@@ -97,7 +122,6 @@ pub(crate) fn flip_planar_diagonals(
             {
                 continue;
             }
-            let p = |i: u32| points[i as usize];
             let (pa, pb, pc, pd) = (p(q.a), p(q.b), p(q.c), p(q.d));
             if edges.contains_key(&key(vertex(q.c), vertex(q.d))) || !flippable(pa, pb, pc, pd) {
                 continue;
@@ -125,9 +149,14 @@ pub(crate) fn flip_planar_diagonals(
                     }
                 }
             }
-            queue.extend([key(va, vc), key(vc, vb), key(vb, vd), key(vd, va)]);
+            let around = [key(va, vc), key(vc, vb), key(vb, vd), key(vd, va)];
+            queue.extend(around);
+            maybe.extend(around);
+            maybe.push(key(vc, vd));
             flips += 1;
         }
+        maybe.sort_unstable();
+        maybe.dedup();
     }
     flips
 }

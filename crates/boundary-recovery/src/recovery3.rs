@@ -685,11 +685,20 @@ fn is_tetrahedron(
     t: [VertexId; 4],
     star: &mut Vec<CellId>,
 ) -> bool {
-    stars.star(tri, t[0], star);
-    star.iter().any(|&c| {
-        let v = tri.cell(c);
-        t[1..].iter().all(|z| v.contains(z))
-    })
+    // The tetrahedron is one of the two cells on its face t0 t1 t2: find one of them (the search
+    // stops there), then look at it and at its neighbour across that face.
+    let Some(c) = stars.find(tri, t[0], star, |v| v.contains(&t[1]) && v.contains(&t[2])) else {
+        return false;
+    };
+    let v = tri.cell(c);
+    if v.contains(&t[3]) {
+        return true;
+    }
+    let Some(i) = (0..4).find(|&k| !t[..3].contains(&v[k])) else {
+        return false;
+    };
+    tri.neighbor(c, i)
+        .is_some_and(|n| tri.cell(n).contains(&t[3]))
 }
 
 /// The side of the domain of each surface triangle, by the nesting of the closed surfaces:
@@ -984,15 +993,26 @@ impl<'a> State<'a> {
         }
         by_vertex.sort_unstable();
         let mut missing = Vec::new();
-        let mut current = VertexId::GHOST;
         let mut star = std::mem::take(&mut self.star);
-        for &(a, b, s, k) in &by_vertex {
-            if a != current {
-                current = a;
-                self.stars.star(&self.tri, a, &mut star);
-            }
-            if !star.iter().any(|&c| self.tri.cell(c).contains(&b)) {
-                missing.push((s, k));
+        let mut found: Vec<bool> = Vec::new();
+        // One search of the star of each lower end, stopped once every other end is found.
+        for group in by_vertex.chunk_by(|x, y| x.0 == y.0) {
+            found.clear();
+            found.resize(group.len(), false);
+            let mut left = group.len();
+            self.stars.find(&self.tri, group[0].0, &mut star, |cell| {
+                for (e, seen) in group.iter().zip(found.iter_mut()) {
+                    if !*seen && cell.contains(&e.1) {
+                        *seen = true;
+                        left -= 1;
+                    }
+                }
+                left == 0
+            });
+            for (e, &seen) in group.iter().zip(&found) {
+                if !seen {
+                    missing.push((e.2, e.3));
+                }
             }
         }
         self.star = star;
@@ -1151,8 +1171,12 @@ impl<'a> State<'a> {
                 if since > 0 && t.iter().all(|v| self.touched[v.index()] <= since) {
                     continue;
                 }
-                self.stars.star(&self.tri, t[0], &mut star);
-                if find_face_in(&self.tri, &star, t[0], t[1], t[2]).is_none() {
+                let present = |v: &[VertexId]| v.contains(&t[1]) && v.contains(&t[2]);
+                if self
+                    .stars
+                    .find(&self.tri, t[0], &mut star, present)
+                    .is_none()
+                {
                     absent.push(k);
                 }
             }
