@@ -371,6 +371,9 @@ struct State<'a> {
     on_surface: Vec<bool>,
     stars: StarSearch,
     star: Vec<CellId>,
+    /// A second search and buffer, for the second half of the parallel edge checks.
+    stars2: StarSearch,
+    star2: Vec<CellId>,
     /// Sub-segments shorter than this cannot be split (beyond double precision).
     shortest: f64,
     budget: usize,
@@ -678,6 +681,39 @@ fn min_dihedral(p: [[f64; 3]; 4]) -> f64 {
     }
 }
 
+/// The `(segment, position)` of each sub-segment `(a, b, segment, position)` of `edges`
+/// (sorted by `a`) that is not an edge of `tri`: one search of the star of each lower end `a`,
+/// stopped once every other end is found.
+fn missing_in(
+    tri: &Triangulation3,
+    stars: &mut StarSearch,
+    star: &mut Vec<CellId>,
+    edges: &[(VertexId, VertexId, u32, u32)],
+) -> Vec<(u32, u32)> {
+    let mut missing = Vec::new();
+    let mut found: Vec<bool> = Vec::new();
+    for group in edges.chunk_by(|x, y| x.0 == y.0) {
+        found.clear();
+        found.resize(group.len(), false);
+        let mut left = group.len();
+        stars.find(tri, group[0].0, star, |cell| {
+            for (e, seen) in group.iter().zip(found.iter_mut()) {
+                if !*seen && cell.contains(&e.1) {
+                    *seen = true;
+                    left -= 1;
+                }
+            }
+            left == 0
+        });
+        for (e, &seen) in group.iter().zip(&found) {
+            if !seen {
+                missing.push((e.2, e.3));
+            }
+        }
+    }
+    missing
+}
+
 /// Whether the four vertices are a cell of `tri` (`star`: a buffer for the search).
 fn is_tetrahedron(
     stars: &mut StarSearch,
@@ -848,6 +884,8 @@ impl<'a> State<'a> {
             spacing,
             on_surface,
             stars: StarSearch::default(),
+            stars2: StarSearch::default(),
+            star2: Vec::new(),
             star: Vec::new(),
             shortest: dist(lo, hi) * 2f64.powi(-40),
             budget: max_steiner.unwrap_or((20 * n_surface).max(10_000)),
@@ -992,30 +1030,25 @@ impl<'a> State<'a> {
             }
         }
         by_vertex.sort_unstable();
-        let mut missing = Vec::new();
-        let mut star = std::mem::take(&mut self.star);
-        let mut found: Vec<bool> = Vec::new();
-        // One search of the star of each lower end, stopped once every other end is found.
-        for group in by_vertex.chunk_by(|x, y| x.0 == y.0) {
-            found.clear();
-            found.resize(group.len(), false);
-            let mut left = group.len();
-            self.stars.find(&self.tri, group[0].0, &mut star, |cell| {
-                for (e, seen) in group.iter().zip(found.iter_mut()) {
-                    if !*seen && cell.contains(&e.1) {
-                        *seen = true;
-                        left -= 1;
-                    }
-                }
-                left == 0
-            });
-            for (e, &seen) in group.iter().zip(&found) {
-                if !seen {
-                    missing.push((e.2, e.3));
-                }
-            }
+        // The two halves (cut between lower ends) are checked on two threads.
+        let mut cut = by_vertex.len() / 2;
+        while cut > 0 && cut < by_vertex.len() && by_vertex[cut].0 == by_vertex[cut - 1].0 {
+            cut += 1;
         }
-        self.star = star;
+        let (first, second) = by_vertex.split_at(cut);
+        let tri = &self.tri;
+        let (mut missing, more) = if by_vertex.len() < 4096 {
+            (
+                missing_in(tri, &mut self.stars, &mut self.star, &by_vertex),
+                Vec::new(),
+            )
+        } else {
+            rayon::join(
+                || missing_in(tri, &mut self.stars, &mut self.star, first),
+                || missing_in(tri, &mut self.stars2, &mut self.star2, second),
+            )
+        };
+        missing.extend(more);
         missing.sort_unstable();
         missing
     }

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use crate::atomic::write_atomic;
 use crate::model::check_first_index;
 use crate::tetmesh::{sibling, TetMeshOut};
-use crate::text::write_f64;
+use crate::text::{write_f64, write_u64};
 use crate::IoError;
 
 /// Writes `X.node`, `X.ele` and `X.face` for `path` (`X` is `path` without a `.node`, `.ele` or
@@ -30,15 +30,28 @@ pub fn write_tetgen_mesh(
     let [node, ele, face] =
         ["node", "ele", "face"].map(|e| sibling(path, &["node", "ele", "face"], e));
     let base = u64::from(first_index);
-    write_atomic(&node, |w| {
-        node_body(w, mesh, base).map_err(|e| IoError::io(&node, e))
-    })?;
-    write_atomic(&ele, |w| {
-        ele_body(w, mesh, base).map_err(|e| IoError::io(&ele, e))
-    })?;
-    write_atomic(&face, |w| {
-        face_body(w, mesh, base).map_err(|e| IoError::io(&face, e))
-    })?;
+    // The three files are independent: written on two threads (the .ele, the biggest, alone).
+    let (ele_done, rest) = std::thread::scope(|scope| {
+        let ele_thread = scope.spawn(|| {
+            write_atomic(&ele, |w| {
+                ele_body(w, mesh, base).map_err(|e| IoError::io(&ele, e))
+            })
+        });
+        let rest = write_atomic(&node, |w| {
+            node_body(w, mesh, base).map_err(|e| IoError::io(&node, e))
+        })
+        .and_then(|()| {
+            write_atomic(&face, |w| {
+                face_body(w, mesh, base).map_err(|e| IoError::io(&face, e))
+            })
+        });
+        (ele_thread.join(), rest)
+    });
+    rest?;
+    match ele_done {
+        Ok(done) => done?,
+        Err(panic) => std::panic::resume_unwind(panic),
+    }
     Ok(vec![node, ele, face])
 }
 
@@ -51,7 +64,7 @@ fn node_body(w: &mut dyn Write, mesh: &TetMeshOut<'_>, base: u64) -> std::io::Re
         u8::from(markers.is_some())
     )?;
     for (i, p) in mesh.coords.iter().enumerate() {
-        write!(w, "{}", i as u64 + base)?;
+        write_u64(w, i as u64 + base)?;
         for &c in p {
             w.write_all(b" ")?;
             write_f64(w, c)?;
@@ -72,9 +85,10 @@ fn ele_body(w: &mut dyn Write, mesh: &TetMeshOut<'_>, base: u64) -> std::io::Res
         u8::from(mesh.regions.is_some())
     )?;
     for (k, t) in mesh.tets.iter().enumerate() {
-        write!(w, "{}", k as u64 + base)?;
+        write_u64(w, k as u64 + base)?;
         for &v in t {
-            write!(w, " {}", u64::from(v) + base)?;
+            w.write_all(b" ")?;
+            write_u64(w, u64::from(v) + base)?;
         }
         if let Some(r) = mesh.regions {
             w.write_all(b" ")?;
@@ -88,9 +102,10 @@ fn ele_body(w: &mut dyn Write, mesh: &TetMeshOut<'_>, base: u64) -> std::io::Res
 fn face_body(w: &mut dyn Write, mesh: &TetMeshOut<'_>, base: u64) -> std::io::Result<()> {
     writeln!(w, "{} 1", mesh.faces.len())?;
     for (k, (t, m)) in mesh.faces.iter().zip(mesh.face_markers).enumerate() {
-        write!(w, "{}", k as u64 + base)?;
+        write_u64(w, k as u64 + base)?;
         for &v in t {
-            write!(w, " {}", u64::from(v) + base)?;
+            w.write_all(b" ")?;
+            write_u64(w, u64::from(v) + base)?;
         }
         writeln!(w, " {m}")?;
     }

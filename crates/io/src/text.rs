@@ -305,6 +305,22 @@ pub(crate) fn write_f64(w: &mut dyn Write, x: f64) -> std::io::Result<()> {
     }
 }
 
+/// Writes `x` in decimal (what `write!(w, "{x}")` writes, without the formatting machinery:
+/// the mesh writers write millions of indices).
+pub(crate) fn write_u64(w: &mut dyn Write, mut x: u64) -> std::io::Result<()> {
+    let mut digits = [0u8; 20];
+    let mut at = digits.len();
+    loop {
+        at -= 1;
+        digits[at] = b'0' + (x % 10) as u8;
+        x /= 10;
+        if x == 0 {
+            break;
+        }
+    }
+    w.write_all(&digits[at..])
+}
+
 /// [`write_f64`] into a `String`, for numbers that end up inside names.
 pub(crate) fn format_f64(x: f64) -> String {
     let mut v = Vec::new();
@@ -318,6 +334,24 @@ mod tests {
 
     fn fmt(x: f64) -> String {
         format_f64(x)
+    }
+
+    #[test]
+    fn integers_are_written_as_by_format() {
+        for x in [
+            0,
+            7,
+            10,
+            99,
+            100,
+            123_456_789,
+            u64::from(u32::MAX),
+            u64::MAX,
+        ] {
+            let mut v = Vec::new();
+            write_u64(&mut v, x).unwrap();
+            assert_eq!(String::from_utf8(v).unwrap(), x.to_string());
+        }
     }
 
     #[test]
