@@ -54,6 +54,7 @@ use delmesh_delaunay_core::{
     Insertion, StarSearch, Triangulation2, Triangulation3, VertexId,
 };
 use delmesh_predicates::{orient2d, orient3d, Sign};
+use rayon::prelude::*;
 use std::collections::HashMap;
 use std::fmt;
 
@@ -1175,13 +1176,20 @@ impl<'a> State<'a> {
     /// Recomputes the sub-faces of stale facets and returns the missing ones, as
     /// `(facet, sub-face index)`.
     fn check_faces(&mut self) -> Vec<(u32, [VertexId; 3])> {
-        for f in 0..self.facs.len() {
-            if self.facs[f].stale {
-                let subfaces = self.reference_subfaces(f);
-                self.facs[f].subfaces = subfaces;
-                self.facs[f].stale = false;
-                self.facs[f].complete_at = 0;
-            }
+        // The facets' own triangulations, in parallel (each reads only its facet).
+        let stale: Vec<usize> = (0..self.facs.len())
+            .filter(|&f| self.facs[f].stale)
+            .collect();
+        let this = &*self;
+        let made: Vec<Vec<[VertexId; 3]>> = stale
+            .par_iter()
+            .with_min_len(64)
+            .map(|&f| this.reference_subfaces(f))
+            .collect();
+        for (f, subfaces) in stale.into_iter().zip(made) {
+            self.facs[f].subfaces = subfaces;
+            self.facs[f].stale = false;
+            self.facs[f].complete_at = 0;
         }
         let mut missing = Vec::new();
         let mut star = std::mem::take(&mut self.star);
