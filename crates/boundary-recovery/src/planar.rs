@@ -83,10 +83,8 @@ pub(crate) fn flip_planar_diagonals(
     let mut flips = 0;
     let mut stars = StarSearch::default();
     let mut star = Vec::new();
-    let mut in_tri = |a: VertexId, b: VertexId| {
-        stars.star(tri, a, &mut star);
-        star.iter().any(|&c| tri.cell(c).contains(&b))
-    };
+    let mut in_tri =
+        |a: VertexId, b: VertexId| stars.find(tri, a, &mut star, |v| v.contains(&b)).is_some();
     // The edges worth looking at: those between two coplanar triangles allowed to merge (one
     // exact test per edge), and later the edges of the triangles a flip made.
     let p = |i: u32| points[i as usize];
