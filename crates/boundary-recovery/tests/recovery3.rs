@@ -582,3 +582,41 @@ fn no_flip_across_a_bend_or_between_markers() {
     assert_eq!(mesh.history.planar_flips, 0);
     check(&plc, &mesh, 1.0);
 }
+
+/// A box of grid squares whose points inside each face are moved at random within the face's
+/// plane (exactly: the fixed coordinate is untouched), so the faces' diagonals are neither
+/// co-circular ties nor Delaunay.
+fn jittered_box(seed: u64, n: usize) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let (mut p, t) = box_surface([0.0; 3], [1.0; 3], n, true);
+    let mut rng = StdRng::seed_from_u64(seed);
+    let h = 0.3 / n as f64;
+    for q in &mut p {
+        let on_side: Vec<usize> = (0..3).filter(|&k| q[k] == 0.0 || q[k] == 1.0).collect();
+        if on_side.len() == 1 {
+            for k in 0..3 {
+                if k != on_side[0] {
+                    q[k] += rng.gen_range(-h..h);
+                }
+            }
+        }
+    }
+    (p, t)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(10))]
+    /// Planar flips keep the surface on random flat faces, merged or not, and merging never
+    /// needs more points.
+    #[test]
+    fn planar_flips_keep_jittered_faces(seed in 0u64..1000, n in 2usize..6) {
+        let (p, t) = jittered_box(seed, n);
+        let mut plc = Plc3::default();
+        add_surface(&mut plc, &p, &t, 1);
+        let kept = BoundaryRecovery3::default().run(&plc).unwrap();
+        check(&plc, &kept, 1.0);
+        let merged = BoundaryRecovery3::default().merge_coplanar(true).run(&plc).unwrap();
+        check_with(&plc, &merged, 1.0, Coverage::Planes);
+        prop_assert!(merged.history.planar_flips > 0);
+        prop_assert!(merged.history.points_added() <= kept.history.points_added());
+    }
+}
