@@ -593,9 +593,9 @@ fn jittered_box(seed: u64, n: usize) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
     for q in &mut p {
         let on_side: Vec<usize> = (0..3).filter(|&k| q[k] == 0.0 || q[k] == 1.0).collect();
         if on_side.len() == 1 {
-            for k in 0..3 {
+            for (k, x) in q.iter_mut().enumerate() {
                 if k != on_side[0] {
-                    q[k] += rng.gen_range(-h..h);
+                    *x += rng.gen_range(-h..h);
                 }
             }
         }
