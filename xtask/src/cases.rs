@@ -78,7 +78,7 @@ pub enum Gen {
     /// The integer grid {0..k-1}^dim: exactly co-spherical/co-circular, the Delaunay
     /// triangulation is not unique.
     Grid { dim: usize, k: usize },
-    /// `n` points uniform in [0,1]^2 x [0, thickness]: flat, badly shaped tets.
+    /// `n` points uniform in \[0,1\]^2 x \[0, thickness\]: flat, badly shaped tets.
     Slab { n: usize, thickness: f64 },
     /// `n` uniform points of which about `permille`/1000 are exact copies of an
     /// earlier point, interleaved at random positions.

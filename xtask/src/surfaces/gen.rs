@@ -259,7 +259,7 @@ pub fn torus(big: f64, small: f64, nu: usize, nv: usize) -> Surface {
     s
 }
 
-/// The box [0,1]^2 x [0, 0.25] (`n x n` squares on top and bottom), whose top face's
+/// The box \[0,1\]^2 x \[0, 0.25\] (`n x n` squares on top and bottom), whose top face's
 /// interior vertices are moved up or down by at most `delta` (seeded): adjacent top
 /// facets are nearly, but not exactly, coplanar.
 fn near_coplanar(n: usize, delta: f64, seed: u64) -> Surface {

@@ -3,7 +3,7 @@
 //! checks of a mesh of the solid bounded by a surface, and a quality summary computed
 //! the same way for both tools.
 //!
-//! Checks ([`check_mesh`]), each against xtask's own reading of the input surface:
+//! Checks ([`check_mesh_with`]), each against xtask's own reading of the input surface:
 //! - orientation: every tetrahedron has positive volume, decided by the exact
 //!   `orient3d` of the `robust` crate (Shewchuk's adaptive arithmetic) on the doubles
 //!   read back from the file (both tools print coordinates round-trip exactly);
@@ -396,7 +396,7 @@ fn distance_to_triangle(p: [f64; 3], t: [[f64; 3]; 3]) -> f64 {
     norm(sub(p, closest_on_triangle(p, t[0], t[1], t[2])))
 }
 
-/// The outcome of [`check_mesh`]: one message per failed check (empty: all passed).
+/// The outcome of [`check_mesh_with`]: one message per failed check (empty: all passed).
 #[derive(Debug, Clone, Default)]
 pub struct CheckReport {
     pub failures: Vec<String>,
@@ -413,17 +413,17 @@ impl CheckReport {
     }
 }
 
-/// The checks of the module docs on `mesh`, a mesh of the solid bounded by `input`
-/// (xtask's reading of the input file, duplicates merged).
+/// [`check_mesh_with`] with coverage per input triangle.
 #[cfg(test)]
 pub fn check_mesh(mesh: &TetMesh, input: &Surface) -> CheckReport {
     check_mesh_with(mesh, input, false)
 }
 
-/// As [`check_mesh`]; with `merged`, coverage is checked per planar patch of the input (its
-/// triangles joined across edges where both lie exactly in one plane, consistently oriented)
-/// instead of per triangle: what re-triangulating coplanar facets (`--merge-coplanar`)
-/// promises.
+/// The checks of the module docs on `mesh`, a mesh of the solid bounded by `input`
+/// (xtask's reading of the input file, duplicates merged). With `merged`, coverage is checked
+/// per planar patch of the input (its triangles joined across edges where both lie exactly in
+/// one plane, consistently oriented) instead of per triangle: what re-triangulating coplanar
+/// facets (`--merge-coplanar`) promises.
 pub fn check_mesh_with(mesh: &TetMesh, input: &Surface, merged: bool) -> CheckReport {
     let mut r = CheckReport::default();
     if mesh.tets.is_empty() {
