@@ -59,6 +59,12 @@ pub(crate) fn flip_planar_diagonals(
             return 0;
         }
     }
+    // A corner that names no point is the caller's error to report (a trusted surface skips
+    // the checks): nothing is flipped.
+    let n = points.len().min(tri.num_input_points());
+    if triangles.iter().flat_map(|t| t.v).any(|i| i as usize >= n) {
+        return 0;
+    }
     let vertex = |i: u32| tri.vertex_of_input(i as usize);
     // Surface edges (by vertex, lower first) and the triangles on each; edges of more than two
     // triangles are never flipped.

@@ -620,3 +620,24 @@ proptest! {
         prop_assert!(merged.history.points_added() <= kept.history.points_added());
     }
 }
+
+#[test]
+fn a_trusted_surface_naming_a_missing_point_is_an_error() {
+    // The checks are skipped, and two triangles share a facet (so the planar flips look at
+    // it): the bad corner is still reported, not a panic.
+    let (p, t) = box_surface([0.0; 3], [1.0; 3], 1, true);
+    let mut plc = Plc3::default();
+    add_surface(&mut plc, &p, &t, 1);
+    for tr in &mut plc.triangles {
+        tr.facet = 0;
+    }
+    plc.triangles[3].v[1] = 99;
+    let err = BoundaryRecovery3::default()
+        .trusted_surface()
+        .run(&plc)
+        .unwrap_err();
+    assert!(
+        matches!(err, RecoveryError::BadFacetPoint { point: 99, .. }),
+        "{err}"
+    );
+}

@@ -22,7 +22,7 @@ pub struct Surface {
     pub triangles: Vec<[u32; 3]>,
 }
 
-/// What [`Surface::cleaned`] changed.
+/// What [`Surface::cleaned_with_map`] changed.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Cleaning {
     /// Vertices at exactly the coordinates of an earlier one, merged into it.
@@ -209,16 +209,16 @@ impl Surface {
         v - e + self.triangles.len() as i64
     }
 
-    /// The surface with exactly coincident vertices merged onto their first occurrence,
-    /// unused vertices dropped and triangles with two equal corners dropped, numbered
-    /// compactly in first-occurrence order.
+    /// [`Surface::cleaned_with_map`] without the map.
     #[cfg(test)]
     pub fn cleaned(&self) -> (Surface, Cleaning) {
         let (s, c, _) = self.cleaned_with_map();
         (s, c)
     }
 
-    /// [`Surface::cleaned`], with the index in `self` of every kept triangle.
+    /// The surface with exactly coincident vertices merged onto their first occurrence,
+    /// unused vertices dropped and triangles with two equal corners dropped, numbered
+    /// compactly in first-occurrence order; with the index in `self` of every kept triangle.
     pub fn cleaned_with_map(&self) -> (Surface, Cleaning, Vec<u32>) {
         let mut first: HashMap<[u64; 3], u32> = HashMap::with_capacity(self.points.len());
         let mut canon = Vec::with_capacity(self.points.len());
