@@ -29,6 +29,7 @@
 //! the tetrahedralisation stays as it is.
 
 use crate::plc3::SurfaceTriangle;
+use crate::recovery3::{cross, dot, sub};
 use delmesh_delaunay_core::{StarSearch, Triangulation3, VertexId};
 use delmesh_predicates::{insphere, orient2d, orient3d, Sign};
 use std::collections::HashMap;
@@ -42,28 +43,29 @@ pub(crate) enum Patches {
     AcrossFacets,
 }
 
-/// Flips the surface's planar diagonals (see the module docs); returns the number of flips.
-/// `points` are the input points, `triangles` index them; `tri` is the tetrahedralisation of
-/// (at least) those points.
+/// The surface's triangles with its planar diagonals flipped (see the module docs), and the
+/// number of flips; `None` (nothing copied) when no diagonal can be flipped. `points` are the
+/// input points, `triangles` index them; `tri` is the tetrahedralisation of (at least) those
+/// points.
 pub(crate) fn flip_planar_diagonals(
     points: &[[f64; 3]],
-    triangles: &mut [SurfaceTriangle],
+    triangles: &[SurfaceTriangle],
     tri: &Triangulation3,
     patches: Patches,
-) -> usize {
+) -> Option<(Vec<SurfaceTriangle>, usize)> {
     if patches == Patches::WithinFacets {
         // Nothing to do unless some facet has several triangles (a triangle soup has none).
         let mut facets: Vec<u32> = triangles.iter().map(|t| t.facet).collect();
         facets.sort_unstable();
         if facets.windows(2).all(|w| w[0] != w[1]) {
-            return 0;
+            return None;
         }
     }
     // A corner that names no point is the caller's error to report (a trusted surface skips
     // the checks): nothing is flipped.
     let n = points.len().min(tri.num_input_points());
     if triangles.iter().flat_map(|t| t.v).any(|i| i as usize >= n) {
-        return 0;
+        return None;
     }
     let vertex = |i: u32| tri.vertex_of_input(i as usize);
     // Surface edges (by vertex, lower first) and the triangles on each; edges of more than two
@@ -108,7 +110,11 @@ pub(crate) fn flip_planar_diagonals(
         })
         .map(|(&e, _)| e)
         .collect();
+    if maybe.is_empty() {
+        return None;
+    }
     maybe.sort_unstable();
+    let mut triangles = triangles.to_vec();
     for stage in [Stage::Delaunay, Stage::Tetrahedralisation] {
         let mut queue = maybe.clone();
         while let Some(e) = queue.pop() {
@@ -118,7 +124,7 @@ pub(crate) fn flip_planar_diagonals(
             if t1 >= MANY || t2 >= MANY {
                 continue;
             }
-            let Some(q) = Quad::of(triangles, t1 as usize, t2 as usize, e, &vertex) else {
+            let Some(q) = Quad::of(&triangles, t1 as usize, t2 as usize, e, &vertex) else {
                 continue;
             };
             let (s1, s2) = (triangles[q.t1], triangles[q.t2]);
@@ -162,7 +168,7 @@ pub(crate) fn flip_planar_diagonals(
         maybe.sort_unstable();
         maybe.dedup();
     }
-    flips
+    (flips > 0).then_some((triangles, flips))
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -266,20 +272,4 @@ fn box_corners(points: &[[f64; 3]]) -> [[f64; 3]; 8] {
         }
     }
     std::array::from_fn(|i| [0, 1, 2].map(|k| if i >> k & 1 == 0 { lo[k] } else { hi[k] }))
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }

@@ -534,17 +534,18 @@ impl BoundaryRecovery3 {
         } else {
             Patches::WithinFacets
         };
-        let mut flipped = plc.triangles.clone();
-        let planar_flips = flip_planar_diagonals(&plc.points, &mut flipped, &tri, patches);
+        let flipped = flip_planar_diagonals(&plc.points, &plc.triangles, &tri, patches);
+        let planar_flips = flipped.as_ref().map_or(0, |f| f.1);
         let retriangulated;
-        let plc = if planar_flips > 0 {
-            retriangulated = Plc3 {
-                triangles: flipped,
-                ..plc.clone()
-            };
-            &retriangulated
-        } else {
-            plc
+        let plc = match flipped {
+            Some((triangles, _)) => {
+                retriangulated = Plc3 {
+                    triangles,
+                    ..plc.clone()
+                };
+                &retriangulated
+            }
+            None => plc,
         };
         let mut state = State::new(tri, plc, self.max_steiner)?;
         // Vertices by where their point came from (duplicates merged).
@@ -762,15 +763,15 @@ fn domain_sides(c: &CheckedSurface) -> Vec<f64> {
     sides
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],

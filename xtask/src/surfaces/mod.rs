@@ -275,17 +275,53 @@ fn os(s: impl Into<OsString>) -> OsString {
     s.into()
 }
 
+/// What a delmesh run is for.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum DmStage {
+    /// `--no-points`: surface recovery alone.
+    Recovery,
+    /// `--no-points --merge-coplanar` (checked per planar patch).
+    RecoveryMerged,
+    /// The full pipeline (quality measured).
+    Full,
+}
+
+/// Runs delmesh on `input` for `stage` (see [`run_delmesh`]), reads its mesh back and checks
+/// it; the mesh files are removed when every check passed.
+fn checked_delmesh(
+    bin: &Path,
+    input: &Path,
+    dir: &Path,
+    name: &str,
+    stage: DmStage,
+    limit: u64,
+    surface: &Surface,
+) -> Result<Run> {
+    let (mut run, ele) = run_delmesh(bin, input, dir, name, stage, limit)?;
+    read_back(
+        &mut run,
+        &ele,
+        surface,
+        stage == DmStage::Full,
+        stage == DmStage::RecoveryMerged,
+    );
+    if run.checks.as_ref().is_some_and(|c| c.failures.is_empty()) && run.why.is_empty() {
+        remove_mesh(&ele);
+    }
+    Ok(run)
+}
+
 /// Runs delmesh on `input`, writing `<dir>/<name>.ele` (and `.node`, `.face`) and
-/// `<dir>/<name>.json`, with `--no-points` when `recovery_only`.
+/// `<dir>/<name>.json`, with the options of `stage`.
 fn run_delmesh(
     bin: &Path,
     input: &Path,
     dir: &Path,
     name: &str,
-    recovery_only: bool,
-    merge_coplanar: bool,
+    stage: DmStage,
     limit: u64,
 ) -> Result<(Run, PathBuf)> {
+    let recovery_only = stage != DmStage::Full;
     fs::create_dir_all(dir)?;
     let ele = dir.join(format!("{name}.ele"));
     let json = dir.join(format!("{name}.json"));
@@ -302,7 +338,7 @@ fn run_delmesh(
     if recovery_only {
         args.push(os("--no-points"));
     }
-    if merge_coplanar {
+    if stage == DmStage::RecoveryMerged {
         args.push(os("--merge-coplanar"));
     }
     let timed = tools::run_timed(bin, &args, &dir.join(format!("{name}.time")), limit)?;
@@ -529,16 +565,15 @@ fn run_case_inner(
 
     // 1. Recovery only.
     eprintln!("xtask: {name}: delmesh mesh --no-points");
-    let (mut dm, dm_ele) = run_delmesh(
+    let dm = checked_delmesh(
         bin,
         &raw_path,
         &dir.join("recovery-delmesh"),
         name,
-        true,
-        false,
+        DmStage::Recovery,
         lim,
+        &input,
     )?;
-    read_back(&mut dm, &dm_ele, &input, false, false);
     eprintln!("xtask: {name}: tetgen -pQ");
     let tg_dir = dir.join("recovery-tetgen");
     // Voids need TetGen's hole list, which only its own formats carry.
@@ -582,48 +617,35 @@ fn run_case_inner(
     o.rec_tgm = Some(tgm);
     let dm_ok = dm.ok;
     let tg_ok = tg.ok;
-    if dm.checks.as_ref().is_some_and(|c| c.failures.is_empty()) && dm.why.is_empty() {
-        remove_mesh(&dm_ele);
-    }
     o.rec_dm = Some(dm);
     o.rec_tg = Some(tg);
     // delmesh re-triangulating coplanar facets, as TetGen's default does (against -pQ).
     if dm_ok {
         eprintln!("xtask: {name}: delmesh mesh --no-points --merge-coplanar");
-        let (mut dmm, dmm_ele) = run_delmesh(
+        o.rec_dmm = Some(checked_delmesh(
             bin,
             &raw_path,
             &dir.join("recovery-delmesh-merged"),
             name,
-            true,
-            true,
+            DmStage::RecoveryMerged,
             lim,
-        )?;
-        read_back(&mut dmm, &dmm_ele, &input, false, true);
-        if dmm.checks.as_ref().is_some_and(|c| c.failures.is_empty()) && dmm.why.is_empty() {
-            remove_mesh(&dmm_ele);
-        }
-        o.rec_dmm = Some(dmm);
+            &input,
+        )?);
     }
 
     // 2. Full pipeline, for the tools that recovered the surface.
     // A self-intersecting input has no meaningful full pipeline.
     if dm_ok && case.expect == Expect::Mesh {
         eprintln!("xtask: {name}: delmesh mesh");
-        let (mut dm, ele) = run_delmesh(
+        o.full_dm = Some(checked_delmesh(
             bin,
             &raw_path,
             &dir.join("full-delmesh"),
             name,
-            false,
-            false,
+            DmStage::Full,
             lim,
-        )?;
-        read_back(&mut dm, &ele, &input, true, false);
-        if dm.checks.as_ref().is_some_and(|c| c.failures.is_empty()) && dm.why.is_empty() {
-            remove_mesh(&ele);
-        }
-        o.full_dm = Some(dm);
+            &input,
+        )?);
     }
     if tg_ok {
         eprintln!("xtask: {name}: tetgen -pqQ");
