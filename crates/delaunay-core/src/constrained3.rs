@@ -24,9 +24,10 @@
 
 use crate::dim::D3;
 use crate::error::{TriangulationError, ValidationError};
+use crate::flip_in3::Flip;
 use crate::ids::{CellId, FacetRef, VertexId};
 use crate::star::StarSearch;
-use crate::triangulation::{Location, Triangulation};
+use crate::triangulation::{Insertion, Location, Triangulation};
 
 /// A 3D triangulation with protected faces and a tag per cell.
 ///
@@ -41,7 +42,11 @@ pub struct ConstrainedTriangulation3 {
     /// Per cell slot: the caller's tag.
     pub(crate) tags: Vec<u32>,
     /// Marks for star searches.
-    stars: StarSearch,
+    pub(crate) stars: StarSearch,
+    /// The flips made by [`Self::flip_in_edge`] and [`Self::flip_in_face`], to undo them.
+    pub(crate) flip_log: Vec<Flip>,
+    /// Cells made by those flips, for the Delaunay flips that follow them.
+    pub(crate) flipped_cells: Vec<CellId>,
 }
 
 impl ConstrainedTriangulation3 {
@@ -53,6 +58,8 @@ impl ConstrainedTriangulation3 {
             protected: vec![0; n],
             tags: vec![0; n],
             stars: StarSearch::default(),
+            flip_log: Vec::new(),
+            flipped_cells: Vec::new(),
         }
     }
 
@@ -180,7 +187,6 @@ impl ConstrainedTriangulation3 {
         }) else {
             return Ok(None);
         };
-        self.tri.vertex_of_input.push(v);
         let n = self.tri.simplices.len();
         self.protected.resize(n, 0);
         self.tags.resize(n, 0);
@@ -273,19 +279,7 @@ impl ConstrainedTriangulation3 {
         else {
             return Ok(None);
         };
-        self.tri.vertex_of_input.push(v);
-        let cavity = &self.tri.cavity;
-        // The tags of the replaced cells, read before their slots are written again.
-        let tags: Vec<u32> = cavity.inside.iter().map(|c| self.tags[c.index()]).collect();
-        let n = self.tri.simplices.len();
-        self.protected.resize(n, 0);
-        self.tags.resize(n, 0);
-        for ((b, &c), &tag) in cavity.boundary.iter().zip(&cavity.new_cells).zip(&tags) {
-            let outside = b.outside;
-            let bit = (self.protected[outside.cell().index()] >> outside.facet()) & 1;
-            self.protected[c.index()] = bit << b.apex;
-            self.tags[c.index()] = tag;
-        }
+        self.after_insertion();
         for &w in &split {
             for (a, b) in [(x, v), (v, y)] {
                 let found = self.find_face(a, b, w);
@@ -296,6 +290,107 @@ impl ConstrainedTriangulation3 {
             }
         }
         Ok(Some((v, split)))
+    }
+
+    /// Inserts `point` (caller's coordinates), walking from a cell of vertex `near`, by
+    /// splitting what it lies in: the cell (1-4), the face (2-6) or the edge (the cells around
+    /// it, each in two). Valid in any triangulation, Delaunay or not, since the point sees every
+    /// face of those cells that it does not lie on; followed by
+    /// [`Self::make_delaunay_from_locked`] from [`Self::last_new_cells`], it gives what
+    /// Bowyer–Watson would in a Delaunay triangulation. A point just beyond the hull (rounded
+    /// off a hull facet) becomes a hull vertex joined to the facets it sees. Protected faces it
+    /// splits are not protected; the others stay. Returns the new vertex, or `None` (nothing
+    /// changed) at an existing vertex. [`Triangulation::last_cavity_vertices`] then holds
+    /// its star's other vertices.
+    ///
+    /// # Errors
+    /// A non-finite coordinate or one outside the range of the triangulation.
+    pub fn insert_splitting(
+        &mut self,
+        point: [f64; 3],
+        near: VertexId,
+    ) -> Result<Option<VertexId>, TriangulationError> {
+        let p = self.tri.scaled_input(point)?;
+        let start = if !near.is_ghost() && near.index() < self.tri.num_vertices() {
+            self.tri.incident[near.index()]
+        } else {
+            self.tri.last
+        };
+        let c = match self.tri.locate_from(p, start) {
+            Location::Vertex(_) => return Ok(None),
+            Location::Cell(c) => c,
+        };
+        let input = self.tri.vertex_of_input.len() as u32;
+        let inserted = if self.tri.is_ghost(c) {
+            // Beyond the hull (a point of a hull facet, rounded outwards).
+            self.tri.insert_beyond_hull(p, input, c)
+        } else {
+            // No conflict search (every facet is avoided); the growth adds the cells across
+            // the facets the point lies on.
+            self.tri
+                .insert_star_shaped(p, input, &[c], |_| false, |_| true, &[])
+        };
+        let Some(v) = inserted else {
+            return Ok(None);
+        };
+        self.after_insertion();
+        Ok(Some(v))
+    }
+
+    /// Plain Bowyer–Watson insertion of `point` (caller's coordinates) in a Delaunay
+    /// triangulation, walking from a cell of vertex `near`, as
+    /// [`Triangulation::insert_near`]: protected faces do not stop the cavity; those it keeps
+    /// stay protected. The new cells' tags are 0 (this is for recovery, before the cells are
+    /// classified).
+    ///
+    /// # Errors
+    /// As [`Triangulation::insert`].
+    pub fn insert_near(
+        &mut self,
+        point: [f64; 3],
+        near: VertexId,
+    ) -> Result<Insertion, TriangulationError> {
+        let result = self.tri.insert_near(point, near)?;
+        if let Insertion::Inserted(_) = result {
+            let n = self.tri.simplices.len();
+            self.protected.resize(n, 0);
+            self.tags.resize(n, 0);
+            for (b, &c) in self
+                .tri
+                .cavity
+                .boundary
+                .iter()
+                .zip(&self.tri.cavity.new_cells)
+            {
+                let outside = b.outside;
+                let bit = (self.protected[outside.cell().index()] >> outside.facet()) & 1;
+                self.protected[c.index()] = bit << b.apex;
+                self.tags[c.index()] = 0;
+            }
+        }
+        Ok(result)
+    }
+
+    /// Per-cell data of the cells the last star-shaped insertion made: protection from the
+    /// faces they were built on, tags from the cells they replace (read before their slots are
+    /// written again).
+    fn after_insertion(&mut self) {
+        let cavity = &self.tri.cavity;
+        let tags: Vec<u32> = cavity.inside.iter().map(|c| self.tags[c.index()]).collect();
+        let n = self.tri.simplices.len();
+        self.protected.resize(n, 0);
+        self.tags.resize(n, 0);
+        for ((b, &c), &tag) in cavity.boundary.iter().zip(&cavity.new_cells).zip(&tags) {
+            let outside = b.outside;
+            let bit = (self.protected[outside.cell().index()] >> outside.facet()) & 1;
+            self.protected[c.index()] = bit << b.apex;
+            self.tags[c.index()] = tag;
+        }
+    }
+
+    /// Unprotects every face.
+    pub fn unprotect_all(&mut self) {
+        self.protected.fill(0);
     }
 
     /// The cells holding both `a` and `b`.

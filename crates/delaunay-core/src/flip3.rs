@@ -102,7 +102,7 @@ impl ConstrainedTriangulation3 {
             })
             .collect();
         let n = failing.len();
-        self.flip_from(failing, n, in_scope)
+        self.flip_from(failing, n, in_scope, &|_, _| false, &mut Vec::new())
     }
 
     /// [`Self::make_delaunay`] when the only faces that may fail are among `faces` (for
@@ -114,7 +114,21 @@ impl ConstrainedTriangulation3 {
         in_scope: impl Fn(u32) -> bool,
     ) -> Flips3 {
         let failing = self.distinct_failing(&faces, &in_scope).len();
-        self.flip_from(faces, failing, in_scope)
+        self.flip_from(faces, failing, in_scope, &|_, _| false, &mut Vec::new())
+    }
+
+    /// [`Self::make_delaunay_from`] that never removes an edge for which `locked` is true (a
+    /// boundary edge recovered by flips, whose faces are not protected yet), and appends the
+    /// vertices of the cells it changes to `touched`.
+    pub fn make_delaunay_from_locked(
+        &mut self,
+        faces: Vec<FacetRef>,
+        in_scope: impl Fn(u32) -> bool,
+        locked: &impl Fn(VertexId, VertexId) -> bool,
+        touched: &mut Vec<VertexId>,
+    ) -> Flips3 {
+        let failing = self.distinct_failing(&faces, &in_scope).len();
+        self.flip_from(faces, failing, in_scope, locked, touched)
     }
 
     /// The flips from the faces `stack` (`failing` of them fail).
@@ -123,6 +137,8 @@ impl ConstrainedTriangulation3 {
         mut stack: Vec<FacetRef>,
         failing: usize,
         in_scope: impl Fn(u32) -> bool,
+        locked: &impl Fn(VertexId, VertexId) -> bool,
+        touched: &mut Vec<VertexId>,
     ) -> Flips3 {
         let mut report = Flips3 {
             failing,
@@ -140,7 +156,24 @@ impl ConstrainedTriangulation3 {
                     stuck.append(&mut stack);
                     break;
                 }
-                self.mend(f, &in_scope, &mut stack, &mut stuck, &mut report);
+                // The new cells' faces may fail now.
+                let queue = |stack: &mut Vec<FacetRef>, cells: &[CellId]| {
+                    for &cell in cells {
+                        stack.extend((0..4).map(|q| FacetRef::new(cell, q)));
+                    }
+                };
+                match self.mend(f, &in_scope, locked, touched) {
+                    Mend::Passes => {}
+                    Mend::Stuck => stuck.push(f),
+                    Mend::TwoThree(cells) => {
+                        report.two_three += 1;
+                        queue(&mut stack, &cells);
+                    }
+                    Mend::ThreeTwo(cells) => {
+                        report.three_two += 1;
+                        queue(&mut stack, &cells);
+                    }
+                }
             }
             // A face refused earlier may be flippable now that its surroundings changed.
             if stuck.is_empty()
@@ -255,48 +288,42 @@ impl ConstrainedTriangulation3 {
         (face, sign)
     }
 
-    /// Flips the face `f` if it fails and a 2-3 or 3-2 flip applies; a failing face that
-    /// cannot be flipped goes to `stuck`. The new cells' outer faces are queued.
+    /// Flips the face `f` if it fails and a 2-3 or 3-2 flip applies (the latter never removing
+    /// a `locked` edge), appending the vertices of the cells it looks at to `touched`.
     fn mend(
         &mut self,
         f: FacetRef,
         in_scope: &impl Fn(u32) -> bool,
-        stack: &mut Vec<FacetRef>,
-        stuck: &mut Vec<FacetRef>,
-        report: &mut Flips3,
-    ) {
+        locked: &impl Fn(VertexId, VertexId) -> bool,
+        touched: &mut Vec<VertexId>,
+    ) -> Mend {
         let (c, i) = (f.cell(), f.facet());
         if !self.tri.is_live(c) || !self.fails(c, i, in_scope) {
-            return;
+            return Mend::Passes;
         }
         let across = self.tri.simplices[c.index()].n[i];
         let (m, j) = (across.cell(), across.facet());
+        touched.extend_from_slice(&self.tri.simplices[c.index()].v);
+        touched.push(self.tri.simplices[m.index()].v[j]);
         let (face, sign) = self.crossing(c, i);
-        let mut queue = |cells: &[CellId]| {
-            for &cell in cells {
-                stack.extend((0..4).map(|q| FacetRef::new(cell, q)));
-            }
-        };
         if sign.iter().all(|&g| g == Sign::Positive) {
-            queue(&self.flip23(c, i, m, j));
-            report.two_three += 1;
-        } else if let Some(q) = beyond_one_edge(&sign) {
-            match self.flip32(c, i, face[q], m, in_scope) {
-                Some(cells) => {
-                    queue(&cells);
-                    report.three_two += 1;
-                }
-                None => stuck.push(f),
-            }
-        } else {
-            stuck.push(f);
+            return Mend::TwoThree(self.flip23(c, i, m, j));
         }
+        let Some(q) = beyond_one_edge(&sign) else {
+            return Mend::Stuck;
+        };
+        let v = self.tri.simplices[c.index()].v;
+        if locked(v[face[(q + 1) % 3]], v[face[(q + 2) % 3]]) {
+            return Mend::Stuck;
+        }
+        self.flip32(c, i, face[q], m, in_scope)
+            .map_or(Mend::Stuck, Mend::ThreeTwo)
     }
 
     /// The 2-3 flip of the face between `c` (opposite its vertex `i`) and `m` (opposite `j`):
     /// three cells around the segment joining their apexes, each `c` with one face vertex
     /// replaced by `m`'s apex (so every cell keeps `c`'s local numbering). Returns them.
-    fn flip23(&mut self, c: CellId, i: usize, m: CellId, j: usize) -> [CellId; 3] {
+    pub(crate) fn flip23(&mut self, c: CellId, i: usize, m: CellId, j: usize) -> [CellId; 3] {
         let s = self.tri.simplices[c.index()];
         let t = self.tri.simplices[m.index()];
         let e = t.v[j];
@@ -347,7 +374,7 @@ impl ConstrainedTriangulation3 {
     /// exactly three cells surround it (`c`, `m` across face `i`, and a third holding both
     /// apexes), all in scope with unprotected faces between them. The two new cells are `c`
     /// with one end of the edge replaced by `m`'s apex. `None` (nothing changed) otherwise.
-    fn flip32(
+    pub(crate) fn flip32(
         &mut self,
         c: CellId,
         i: usize,
@@ -422,13 +449,25 @@ impl ConstrainedTriangulation3 {
     }
 
     /// Per-cell data for cell slots the triangulation has just grown.
-    fn grow_cell_data(&mut self) {
+    pub(crate) fn grow_cell_data(&mut self) {
         let n = self.tri.simplices.len();
         if self.protected.len() < n {
             self.protected.resize(n, 0);
             self.tags.resize(n, 0);
         }
     }
+}
+
+/// What [`ConstrainedTriangulation3::mend`] did with a face.
+enum Mend {
+    /// It passes the test (or is out of scope, protected, or gone).
+    Passes,
+    /// It fails, and no flip applies.
+    Stuck,
+    /// Flipped 2-3, into these cells.
+    TwoThree([CellId; 3]),
+    /// Flipped 3-2, into these cells.
+    ThreeTwo([CellId; 2]),
 }
 
 /// Where the segment between the apexes of a face passes beyond exactly one edge of it (the
@@ -444,7 +483,7 @@ fn beyond_one_edge(sign: &[Sign; 3]) -> Option<usize> {
 
 /// The local index of `v` in a cell's vertices (it is there: the callers checked).
 #[inline]
-fn local(cell: &[VertexId; 4], v: VertexId) -> usize {
+pub(crate) fn local(cell: &[VertexId; 4], v: VertexId) -> usize {
     cell.iter()
         .position(|&u| u == v)
         .expect("the vertex is in the cell: a bug in delmesh")

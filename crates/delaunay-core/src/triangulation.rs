@@ -794,10 +794,11 @@ impl<D: Dim> Triangulation<D> {
     /// rounded point lies just beyond a nearly flat cell that must be in the cavity. Where the
     /// new cell on a boundary facet would not be positive and the facet is not blocked, the
     /// cell beyond it joins the cavity. The conflict search crosses neither `blocked` nor
-    /// `avoided` facets; the growth crosses `avoided` ones where it must. If a blocked or hull
-    /// facet faces away from `p`, the cavity reaches both sides of a blocked facet, or it takes
-    /// every cell of one of the groups `keep_one_of` (the cells around an edge that must stay),
-    /// nothing changes and `None` is returned.
+    /// `avoided` facets; the growth crosses `avoided` ones where it must (and a hull facet that
+    /// `p` lies on). If a blocked or hull facet faces away from `p`, the cavity reaches both
+    /// sides of a blocked facet, swallows a vertex, or takes every cell of one of the groups
+    /// `keep_one_of` (the cells around an edge that must stay), nothing changes and `None` is
+    /// returned.
     pub(crate) fn insert_star_shaped(
         &mut self,
         p: D::Point,
@@ -847,8 +848,14 @@ impl<D: Dim> Triangulation<D> {
                     }
                     continue;
                 }
-                if finite && D::orient_replacing(&self.points, &cell.v, f, p) != Sign::Positive {
-                    if is_blocked || self.is_ghost(n) {
+                let side = if finite {
+                    D::orient_replacing(&self.points, &cell.v, f, p)
+                } else {
+                    Sign::Positive
+                };
+                if side != Sign::Positive {
+                    // A ghost cell joins only when the point lies on its hull facet.
+                    if is_blocked || (self.is_ghost(n) && side == Sign::Negative) {
                         star_shaped = false;
                         break 'grow;
                     }
@@ -864,24 +871,99 @@ impl<D: Dim> Triangulation<D> {
             .iter()
             .all(|group| group.iter().any(|c| self.mark[c.index()] != INSIDE));
         if star_shaped {
-            for &c in &cavity.cells {
-                let cell = self.simplices[c.index()];
-                for f in 0..D::C {
-                    let across = cell.n[f];
-                    if self.mark[across.cell().index()] != INSIDE {
-                        let mut vertices = cell.v;
-                        vertices[f] = v;
-                        cavity.boundary.push(BoundaryFacet {
-                            vertices,
-                            apex: f as u8,
-                            outside: across,
-                        });
-                        cavity.inside.push(c);
-                    }
+            self.cavity_boundary(&mut cavity, v);
+            star_shaped = !self.swallows_vertex(&cavity);
+        }
+        self.commit_cavity(cavity, star_shaped, p, input)
+    }
+
+    /// The boundary facets of the cavity whose cells are marked inside, for the new vertex
+    /// `v`, each with the cavity cell it belongs to.
+    fn cavity_boundary(&self, cavity: &mut Cavity, v: VertexId) {
+        for &c in &cavity.cells {
+            let cell = self.simplices[c.index()];
+            for f in 0..D::C {
+                let across = cell.n[f];
+                if self.mark[across.cell().index()] != INSIDE {
+                    let mut vertices = cell.v;
+                    vertices[f] = v;
+                    cavity.boundary.push(BoundaryFacet {
+                        vertices,
+                        apex: f as u8,
+                        outside: across,
+                    });
+                    cavity.inside.push(c);
                 }
             }
         }
-        self.commit_cavity(cavity, star_shaped, p, input)
+    }
+
+    /// Inserts the internal point `p`, strictly beyond the hull facet of the ghost cell
+    /// `start`, as a new hull vertex: the cavity is the ghost cells whose hull facet it lies
+    /// strictly beyond, connected to `start`, so every new finite cell is a visible hull facet
+    /// joined to it (positive) in any triangulation, Delaunay or not. `None` if `start` is not
+    /// such a ghost cell.
+    pub(crate) fn insert_beyond_hull(
+        &mut self,
+        p: D::Point,
+        input: u32,
+        start: CellId,
+    ) -> Option<VertexId> {
+        let beyond = |this: &Self, c: CellId| {
+            let cell = &this.simplices[c.index()];
+            let Some(ghost) = cell.v[..D::C].iter().position(|u| u.is_ghost()) else {
+                return false;
+            };
+            let mut finite = cell.v;
+            finite[ghost] = cell.v[(ghost + 1) % D::C];
+            D::orient_replacing(&this.points, &finite, ghost, p) == Sign::Positive
+        };
+        if !beyond(self, start) {
+            return None;
+        }
+        let mut cavity = self.seed_cavity(&[start]);
+        let v = VertexId(self.input_index.len() as u32);
+        while let Some(c) = cavity.stack.pop() {
+            let cell = self.simplices[c.index()];
+            for f in 0..D::C {
+                let n = cell.n[f].cell();
+                if self.mark[n.index()] != UNSEEN {
+                    continue;
+                }
+                cavity.touched.push(n);
+                if beyond(self, n) {
+                    self.mark[n.index()] = INSIDE;
+                    cavity.cells.push(n);
+                    cavity.stack.push(n);
+                } else {
+                    self.mark[n.index()] = OUTSIDE;
+                }
+            }
+        }
+        self.cavity_boundary(&mut cavity, v);
+        self.commit_cavity(cavity, true, p, input)
+    }
+
+    /// Whether a vertex of the cavity's cells is not on its boundary: the cavity would swallow
+    /// it. Bowyer–Watson cavities of a Delaunay triangulation never do; grown ones in a
+    /// triangulation that is not Delaunay can.
+    fn swallows_vertex(&self, cavity: &Cavity) -> bool {
+        let mut on_boundary: Vec<VertexId> = cavity
+            .boundary
+            .iter()
+            .flat_map(|b| {
+                (0..D::C)
+                    .filter(move |&k| k != b.apex as usize)
+                    .map(move |k| b.vertices[k])
+            })
+            .collect();
+        on_boundary.sort_unstable();
+        on_boundary.dedup();
+        cavity.cells.iter().any(|c| {
+            self.simplices[c.index()].v[..D::C]
+                .iter()
+                .any(|u| on_boundary.binary_search(u).is_err())
+        })
     }
 
     /// Steps 6–8: one new cell per boundary facet (the facet joined to the new vertex), glued to
