@@ -39,6 +39,20 @@
 //! shorter than double precision can split, recovery stops with an error naming the facets
 //! that resisted instead of looping.
 //!
+//! **Constrained recovery** ([`RecoveryMethod3::Constrained`], beyond the paper): each missing
+//! sub-segment, then each missing sub-face, is first made present by flips
+//! ([`ConstrainedTriangulation3::flip_in_edge`], [`ConstrainedTriangulation3::flip_in_face`];
+//! never removing a sub-segment or a sub-face found present), and the cells the flips made are
+//! flipped back towards the Delaunay property where that removes neither; a point is added, as
+//! above, only where the flips stop short, by splitting what it lies in and flipping
+//! ([`ConstrainedTriangulation3::insert_splitting`]). Most surfaces then need far fewer points
+//! (a CAD surface of long thin triangles: tens instead of thousands), and the mesh is not
+//! Delaunay next to what was flipped in. Splitting after flips is not bound to end as the
+//! Delaunay splitting is: where a sub-segment would get shorter than 1/1024 of its segment or
+//! the bound of added points is reached, the conforming recovery runs instead, from the same
+//! first tetrahedralisation
+//! ([`RecoveryHistory3::constrained_fallback`]).
+//!
 //! The recovered faces are then protected ([`ConstrainedTriangulation3`]) and the cells are
 //! classified by the flood fill of [`crate::classify3`].
 
@@ -50,12 +64,12 @@ use crate::plc3::Plc3;
 use crate::recovery::merged_list;
 use crate::surface::{check_surface, CheckedSurface, PointLocation};
 use delmesh_delaunay_core::{
-    find_face_in, CellId, ConstrainedTriangulation2, ConstrainedTriangulation3, FacetRef,
+    find_face_in, CellId, ConstrainedTriangulation2, ConstrainedTriangulation3, FacetRef, FlipIn,
     Insertion, StarSearch, Triangulation2, Triangulation3, VertexId,
 };
 use delmesh_predicates::{orient2d, orient3d, Sign};
 use rayon::prelude::*;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::fmt;
 
 /// How the surface is recovered.
@@ -67,6 +81,11 @@ pub enum RecoveryMethod3 {
     /// A point for every boundary face first (R7), then edge and face checking for what is
     /// left.
     APriori,
+    /// Beyond the paper: missing edges and faces are first recovered by flips, which add no
+    /// point (a constrained, not conforming, recovery: the mesh is not Delaunay next to
+    /// them); a point is added only where the flips stop short. If that does not finish within
+    /// the bound of added points, the conforming method runs instead.
+    Constrained,
 }
 
 /// One step of the recovery history: the rows of the paper's Table 2.
@@ -138,6 +157,13 @@ pub struct RecoveryHistory3 {
     pub final_surface_edges: usize,
     /// Sub-faces at the end (boundary triangles of the mesh).
     pub final_surface_faces: usize,
+    /// Flips made to recover edges and faces (Constrained only).
+    pub flips: usize,
+    /// Edges and faces recovered by flips alone (Constrained only).
+    pub flipped_in: usize,
+    /// The constrained recovery did not finish within the bound of added points, and the
+    /// conforming one ran instead (its passes and points are the ones reported).
+    pub constrained_fallback: bool,
     /// Tetrahedra outside the domain (and in holes) after classification.
     pub tetrahedra_outside: usize,
     /// Tetrahedra inside the domain after classification.
@@ -187,6 +213,17 @@ impl fmt::Display for RecoveryHistory3 {
             row(f, "  faces left to checking:", self.a_priori_rejected)?;
         }
         row(f, "No. of tetrahedra obtained:", self.initial_tetrahedra)?;
+        if self.method == RecoveryMethod3::Constrained {
+            if self.constrained_fallback {
+                writeln!(
+                    f,
+                    "Recovery by flips did not finish: the conforming recovery follows"
+                )?;
+            } else {
+                row(f, "Edges and faces recovered by flips:", self.flipped_in)?;
+                row(f, "  flips:", self.flips)?;
+            }
+        }
         writeln!(
             f,
             "After triangulation of all points: Edge recovery history"
@@ -362,7 +399,7 @@ struct Fac {
 
 /// Recovery in progress.
 struct State<'a> {
-    tri: Triangulation3,
+    ct: ConstrainedTriangulation3,
     plc: &'a Plc3,
     segs: Vec<Seg>,
     facs: Vec<Fac>,
@@ -388,6 +425,12 @@ struct State<'a> {
     touched: Vec<u64>,
     /// The value of `changes` at the last edge check.
     edges_checked_at: u64,
+    /// Recover by flips first ([`RecoveryMethod3::Constrained`]).
+    constrained: bool,
+    /// Every sub-segment, by [`edge_key`]: flips never remove these edges.
+    locked: HashSet<u64>,
+    /// Scratch: the vertices of the cells flips changed.
+    flip_touched: Vec<VertexId>,
 }
 
 impl BoundaryRecovery3 {
@@ -453,7 +496,7 @@ impl BoundaryRecovery3 {
         // points alone: it is built on the second thread while the surface is checked.
         let alone = !self.trusted
             && self.extra_points.is_empty()
-            && self.method == RecoveryMethod3::Conforming
+            && self.method != RecoveryMethod3::APriori
             && plc.points.iter().flatten().all(|x| x.is_finite());
         let (checked, early) = if self.trusted {
             (None, None)
@@ -547,13 +590,15 @@ impl BoundaryRecovery3 {
             }
             None => plc,
         };
-        let mut state = State::new(tri, plc, self.max_steiner)?;
+        let constrained = self.method == RecoveryMethod3::Constrained;
+        let fallback = constrained.then(|| tri.clone());
+        let mut state = State::new(tri, plc, self.max_steiner, constrained)?;
         // Vertices by where their point came from (duplicates merged).
         let n_extra = extra.len();
         let from = |lo: usize, hi: usize| {
-            (0..state.tri.num_vertices())
+            (0..state.ct.triangulation().num_vertices())
                 .filter(|&v| {
-                    let i = state.tri.input_index(VertexId(v as u32));
+                    let i = state.ct.triangulation().input_index(VertexId(v as u32));
                     (lo..hi).contains(&i) && !state.on_surface[v]
                 })
                 .count()
@@ -568,7 +613,7 @@ impl BoundaryRecovery3 {
             field_points,
             surface_faces: plc.triangles.len(),
             surface_edges: state.segs.len(),
-            initial_tetrahedra: state.tri.num_cells(),
+            initial_tetrahedra: state.ct.triangulation().num_cells(),
             a_priori_points: a_priori,
             a_priori_rejected,
             field_points_on_surface: dropped_on_surface,
@@ -583,25 +628,24 @@ impl BoundaryRecovery3 {
             planar_flips,
             ..Default::default()
         };
-        state.recover(&mut history)?;
-        // Flat tetrahedra on the surface: moved out of the domain by the choice of sub-faces
-        // where they span one facet, broken by a split where they span a surface edge.
-        let mut last = usize::MAX;
-        for _ in 0..MAX_SLIVER_ROUNDS {
-            history.flat_tetrahedra_moved_out += state.move_flat_tetrahedra_out(sides);
-            let todo = state.edges_under_flat_tetrahedra(sides);
-            // Splitting must make progress; where it does not (or there is nothing to do), stop.
-            if todo.is_empty() || todo.len() >= last {
-                break;
+        let initial = constrained.then(|| history.clone());
+        let attempt = state
+            .recover(&mut history)
+            .and_then(|()| state.break_flat_tetrahedra(sides, &mut history));
+        match (attempt, fallback.zip(initial)) {
+            (Ok(()), _) => {}
+            (Err(_), Some((tri, initial))) => {
+                // The constrained attempt did not finish: the conforming recovery, from the
+                // same Delaunay tetrahedralisation, whose splitting terminates.
+                state = State::new(tri, plc, self.max_steiner, false)?;
+                history = RecoveryHistory3 {
+                    constrained_fallback: true,
+                    ..initial
+                };
+                state.recover(&mut history)?;
+                state.break_flat_tetrahedra(sides, &mut history)?;
             }
-            last = todo.len();
-            // Highest position first within a segment, so earlier positions stay valid.
-            for &(si, k) in todo.iter().rev() {
-                state.split_subsegment(si, k)?;
-                history.edge_points += 1;
-            }
-            history.flat_tetrahedra_split += todo.len();
-            state.recover(&mut history)?;
+            (Err(e), None) => return Err(e),
         }
         history.final_surface_edges = state.segs.iter().map(|s| s.pts.len() - 1).sum();
 
@@ -617,10 +661,16 @@ impl BoundaryRecovery3 {
             }
         }
         let facets = state.face_refs(&faces);
-        let mut ct = ConstrainedTriangulation3::new(state.tri);
+        debug_assert!(
+            facets.iter().all(Option::is_some),
+            "every recovered face is present: a bug"
+        );
+        let mut ct = state.ct;
+        ct.unprotect_all();
         for f in facets.into_iter().flatten() {
             ct.protect(f);
         }
+
         history.final_surface_faces = faces.len();
         let region_attributes = classify3(&mut ct, plc)?;
         for c in ct.triangulation().cells() {
@@ -643,6 +693,19 @@ impl BoundaryRecovery3 {
             history,
         })
     }
+}
+
+/// The shortest sub-segment, as a fraction of its segment, that the constrained recovery
+/// splits; finer, it gives up and the conforming recovery runs instead.
+const CONSTRAINED_FINEST: f64 = 1.0 / 1024.0;
+
+/// Flips tried for one missing edge or face before a point is added instead.
+const MAX_FLIPS: usize = 64;
+
+/// An edge's key in [`State::locked`]: its two vertices, lower first.
+fn edge_key(a: VertexId, b: VertexId) -> u64 {
+    let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+    u64::from(lo.0) << 32 | u64::from(hi.0)
 }
 
 /// Rounds of breaking flat tetrahedra on the surface (each followed by edge and face checking).
@@ -797,6 +860,7 @@ impl<'a> State<'a> {
         tri: Triangulation3,
         plc: &'a Plc3,
         max_steiner: Option<usize>,
+        constrained: bool,
     ) -> Result<Self, RecoveryError> {
         let n = plc.points.len();
         let first = u64::from(plc.first_index);
@@ -877,8 +941,15 @@ impl<'a> State<'a> {
             .map(|(&s, &c)| if c > 0 { s / f64::from(c) } else { f64::NAN })
             .collect();
         let n_surface = on_surface.iter().filter(|&&s| s).count();
+        let locked = if constrained {
+            segs.iter()
+                .map(|s| edge_key(s.pts[0].1, s.pts[1].1))
+                .collect()
+        } else {
+            HashSet::new()
+        };
         Ok(State {
-            tri,
+            ct: ConstrainedTriangulation3::new(tri),
             plc,
             segs,
             facs,
@@ -895,6 +966,9 @@ impl<'a> State<'a> {
             changes: 1,
             touched: vec![1; nv],
             edges_checked_at: 0,
+            locked,
+            constrained,
+            flip_touched: Vec::new(),
         })
     }
 
@@ -906,8 +980,8 @@ impl<'a> State<'a> {
         u64::from(self.plc.first_index)
     }
 
-    /// The facet of the triangulation that is each recovered face, one star search per
-    /// distinct lowest vertex.
+    /// The facet of the triangulation that is each face (`None` where it is not one), one star
+    /// search per distinct lowest vertex.
     fn face_refs(&mut self, faces: &[BoundaryFace]) -> Vec<Option<FacetRef>> {
         let mut order: Vec<(VertexId, u32)> = faces
             .iter()
@@ -921,14 +995,10 @@ impl<'a> State<'a> {
         for (a, i) in order {
             if a != current {
                 current = a;
-                self.stars.star(&self.tri, a, &mut star);
+                self.stars.star(self.ct.triangulation(), a, &mut star);
             }
             let [x, y, z] = faces[i as usize].v;
-            out[i as usize] = find_face_in(&self.tri, &star, x, y, z);
-            debug_assert!(
-                out[i as usize].is_some(),
-                "a recovered face is present: a bug"
-            );
+            out[i as usize] = find_face_in(self.ct.triangulation(), &star, x, y, z);
         }
         self.star = star;
         out
@@ -942,8 +1012,36 @@ impl<'a> State<'a> {
         spacing: f64,
         near: VertexId,
     ) -> Result<Option<VertexId>, RecoveryError> {
-        match self.tri.insert_near(p, near)? {
-            Insertion::Inserted(v) => {
+        let inserted = if self.constrained {
+            // Flips made the mesh non-Delaunay: split what the point lies in, then flip.
+            let v = self.ct.insert_splitting(p, near)?;
+            if v.is_some() {
+                let faces = self
+                    .ct
+                    .last_new_cells()
+                    .iter()
+                    .flat_map(|&c| (0..4).map(move |i| FacetRef::new(c, i)))
+                    .collect();
+                let locked = &self.locked;
+                let is_locked = |x: VertexId, y: VertexId| locked.contains(&edge_key(x, y));
+                self.flip_touched
+                    .extend_from_slice(self.ct.triangulation().last_cavity_vertices());
+                self.ct.make_delaunay_from_locked(
+                    faces,
+                    |_| true,
+                    &is_locked,
+                    &mut self.flip_touched,
+                );
+            }
+            v
+        } else {
+            match self.ct.insert_near(p, near)? {
+                Insertion::Inserted(v) => Some(v),
+                Insertion::Duplicate(_) => None,
+            }
+        };
+        match inserted {
+            Some(v) => {
                 if self.spacing.len() <= v.index() {
                     self.spacing.resize(v.index() + 1, f64::NAN);
                     self.on_surface.resize(v.index() + 1, false);
@@ -953,20 +1051,175 @@ impl<'a> State<'a> {
                 self.added += 1;
                 // The new cells are the star of `v`; their vertices are the cavity's.
                 self.changes += 1;
-                let n = self.tri.num_vertices();
+                let n = self.ct.triangulation().num_vertices();
                 if self.touched.len() < n {
                     self.touched.resize(n, 0);
                 }
                 self.touched[v.index()] = self.changes;
-                for &u in self.tri.last_cavity_vertices() {
-                    if !u.is_ghost() {
-                        self.touched[u.index()] = self.changes;
+                if self.constrained {
+                    self.note_flips();
+                } else {
+                    for &u in self.ct.triangulation().last_cavity_vertices() {
+                        if !u.is_ghost() {
+                            self.touched[u.index()] = self.changes;
+                        }
                     }
                 }
                 Ok(Some(v))
             }
-            Insertion::Duplicate(_) => Ok(None),
+            None => Ok(None),
         }
+    }
+
+    /// Marks the vertices of the cells the last flips changed (in `flip_touched`) as touched.
+    fn note_flips(&mut self) {
+        if self.flip_touched.is_empty() {
+            return;
+        }
+        self.changes += 1;
+        for &u in &self.flip_touched {
+            if !u.is_ghost() {
+                self.touched[u.index()] = self.changes;
+            }
+        }
+        self.flip_touched.clear();
+    }
+
+    /// Tries to make the missing edge `u w` present by flips (never removing a sub-segment or
+    /// a protected face); whether it is.
+    fn flip_in_edge(&mut self, u: VertexId, w: VertexId, history: &mut RecoveryHistory3) -> bool {
+        let locked = &self.locked;
+        let is_locked = |x: VertexId, y: VertexId| locked.contains(&edge_key(x, y));
+        let outcome = self
+            .ct
+            .flip_in_edge(u, w, &is_locked, MAX_FLIPS, &mut self.flip_touched);
+        self.note_flips();
+        self.count_flips(outcome, history)
+    }
+
+    /// Tries to make the missing sub-face `t` present by flips, its missing edges first; whether
+    /// it is (then it is protected).
+    fn flip_in_subface(&mut self, t: [VertexId; 3], history: &mut RecoveryHistory3) -> bool {
+        let mark = self.ct.flip_mark();
+        let present = self.flip_in_subface_edges(t, history) && {
+            let locked = &self.locked;
+            let is_locked = |x: VertexId, y: VertexId| locked.contains(&edge_key(x, y));
+            let outcome = self.ct.flip_in_face(
+                t[0],
+                t[1],
+                t[2],
+                &is_locked,
+                MAX_FLIPS,
+                &mut self.flip_touched,
+            );
+            self.count_flips(outcome, history)
+        };
+        if present {
+            self.ct.protect_face(t[0], t[1], t[2]);
+            self.ct.keep_flips();
+        } else {
+            // The edges flipped in for it are taken back too.
+            self.ct.undo_flips(mark, &mut self.flip_touched);
+        }
+        self.note_flips();
+        present
+    }
+
+    /// Makes the missing edges of sub-face `t` present by flips; whether all are.
+    fn flip_in_subface_edges(&mut self, t: [VertexId; 3], history: &mut RecoveryHistory3) -> bool {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let tri = self.ct.triangulation();
+            let present = self
+                .stars
+                .find(tri, a, &mut self.star, |v| v.contains(&b))
+                .is_some();
+            if !present && !self.flip_in_edge(a, b, history) {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Flips the faces next to the cells the recovery flips made back to the Delaunay property
+    /// where that removes no sub-segment or protected face: points added later then find
+    /// Bowyer–Watson cavities as in a Delaunay mesh.
+    fn delaunay_after_flips(&mut self) {
+        let faces = self.ct.take_flipped_faces();
+        if faces.is_empty() {
+            return;
+        }
+        let locked = &self.locked;
+        let is_locked = |x: VertexId, y: VertexId| locked.contains(&edge_key(x, y));
+        self.ct
+            .make_delaunay_from_locked(faces, |_| true, &is_locked, &mut self.flip_touched);
+        self.note_flips();
+    }
+
+    /// Adds the flips of `outcome` to the history; whether the edge or face is present.
+    fn count_flips(&self, outcome: FlipIn, history: &mut RecoveryHistory3) -> bool {
+        match outcome {
+            FlipIn::Present(n) => {
+                history.flips += n;
+                history.flipped_in += usize::from(n > 0);
+                true
+            }
+            FlipIn::Stuck(n) => {
+                history.flips += n;
+                false
+            }
+        }
+    }
+
+    /// Protects every sub-face present now (and no other face), so that flips keep them.
+    fn protect_present_subfaces(&mut self) {
+        let faces: Vec<BoundaryFace> = self
+            .facs
+            .iter()
+            .flat_map(|fac| {
+                fac.subfaces.iter().map(|&v| BoundaryFace {
+                    v,
+                    marker: fac.marker,
+                    facet: fac.facet,
+                })
+            })
+            .collect();
+        let refs = self.face_refs(&faces);
+        self.ct.unprotect_all();
+        for f in refs.into_iter().flatten() {
+            self.ct.protect(f);
+        }
+    }
+
+    /// Flat tetrahedra on the surface: moved out of the domain by the choice of sub-faces where
+    /// they span one facet, and (conforming recovery) broken by a split where they span a
+    /// surface edge, followed by edge and face checking.
+    fn break_flat_tetrahedra(
+        &mut self,
+        sides: &[f64],
+        history: &mut RecoveryHistory3,
+    ) -> Result<(), RecoveryError> {
+        let mut last = usize::MAX;
+        for _ in 0..MAX_SLIVER_ROUNDS {
+            history.flat_tetrahedra_moved_out += self.move_flat_tetrahedra_out(sides);
+            if self.constrained {
+                break;
+            }
+            let todo = self.edges_under_flat_tetrahedra(sides);
+            // Splitting must make progress; where it does not (or there is nothing to do), stop.
+            if todo.is_empty() || todo.len() >= last {
+                break;
+            }
+            last = todo.len();
+            // Highest position first within a segment, so earlier positions stay valid.
+            for &(si, k) in todo.iter().rev() {
+                self.split_subsegment(si, k)?;
+                history.edge_points += 1;
+            }
+            history.flat_tetrahedra_split += todo.len();
+            self.recover(history)?;
+        }
+        Ok(())
     }
 
     /// Edge and face checking until every sub-face is present.
@@ -982,6 +1235,19 @@ impl<'a> State<'a> {
             if missing.is_empty() {
                 return Ok(());
             }
+            let missing = if self.constrained {
+                self.protect_present_subfaces();
+                let mut left = Vec::new();
+                for (f, t) in missing {
+                    if !self.flip_in_subface(t, history) {
+                        left.push((f, t));
+                    }
+                }
+                self.delaunay_after_flips();
+                left
+            } else {
+                missing
+            };
             for (f, t) in missing {
                 if self.split_face(f, t)? {
                     history.face_points += 1;
@@ -997,14 +1263,29 @@ impl<'a> State<'a> {
         loop {
             let missing = self.missing_subsegments();
             history.steps.push(RecoveryStep::Edges {
-                points: self.tri.num_vertices(),
-                tetrahedra: self.tri.num_cells(),
+                points: self.ct.triangulation().num_vertices(),
+                tetrahedra: self.ct.triangulation().num_cells(),
                 surface_edges: self.segs.iter().map(|s| s.pts.len() - 1).sum(),
                 missing_edges: missing.len(),
             });
             if missing.is_empty() {
                 return Ok(());
             }
+            let missing = if self.constrained {
+                let mut left = Vec::new();
+                for (s, k) in missing {
+                    let pts = &self.segs[s as usize].pts;
+                    let (u, w) = (pts[k as usize].1, pts[k as usize + 1].1);
+                    if !self.flip_in_edge(u, w, history) {
+                        left.push((s, k));
+                    }
+                    self.ct.keep_flips();
+                }
+                self.delaunay_after_flips();
+                left
+            } else {
+                missing
+            };
             // Highest position first, so earlier positions of the same segment stay valid.
             for &(s, k) in missing.iter().rev() {
                 self.split_subsegment(s as usize, k as usize)?;
@@ -1038,7 +1319,7 @@ impl<'a> State<'a> {
             cut += 1;
         }
         let (first, second) = by_vertex.split_at(cut);
-        let tri = &self.tri;
+        let tri = self.ct.triangulation();
         let (mut missing, more) = if by_vertex.len() < 4096 {
             (
                 missing_in(tri, &mut self.stars, &mut self.star, &by_vertex),
@@ -1062,7 +1343,10 @@ impl<'a> State<'a> {
         let (t0, t1) = (seg.pts[k].0, seg.pts[k + 1].0);
         let length = dist(pa, pb);
         let sub_length = (t1 - t0) * length;
-        if sub_length < self.shortest || self.added >= self.budget {
+        // Splits after flips are not bound to end as the Delaunay ones are: the constrained
+        // attempt gives up on a segment divided this finely.
+        let too_fine = self.constrained && t1 - t0 < CONSTRAINED_FINEST;
+        if sub_length < self.shortest || self.added >= self.budget || too_fine {
             return Err(self.not_recovered(self.facets_of_segment(s)));
         }
         let last = seg.pts.len() - 1;
@@ -1089,6 +1373,12 @@ impl<'a> State<'a> {
         let Some(v) = self.add_vertex(p, da + t * (db - da), seg.pts[k].1)? else {
             return Err(self.not_recovered(self.facets_of_segment(s)));
         };
+        if self.constrained {
+            let (u, w) = (seg.pts[k].1, seg.pts[k + 1].1);
+            self.locked.remove(&edge_key(u, w));
+            self.locked.insert(edge_key(u, v));
+            self.locked.insert(edge_key(v, w));
+        }
         self.segs[s].pts.insert(k + 1, (t, v));
         for &f in &self.seg_facets[s] {
             self.facs[f as usize].stale = true;
@@ -1103,19 +1393,22 @@ impl<'a> State<'a> {
     /// is within a fifth of an end (then the mid-point is better). Not used next to input
     /// vertices, where the concentric shells are what makes splitting terminate.
     fn projection_split(&mut self, u: VertexId, w: VertexId) -> Option<f64> {
-        let (pu, pw) = (self.tri.vertex(u), self.tri.vertex(w));
+        let (pu, pw) = (
+            self.ct.triangulation().vertex(u),
+            self.ct.triangulation().vertex(w),
+        );
         let uw = sub(pw, pu);
         let len2 = dot(uw, uw);
         let mut best: Option<(f64, f64)> = None; // (cosine of the angle at x, fraction)
         let mut star = std::mem::take(&mut self.star);
         for end in [u, w] {
-            self.stars.star(&self.tri, end, &mut star);
+            self.stars.star(self.ct.triangulation(), end, &mut star);
             for &c in &star {
-                for &x in self.tri.cell(c) {
+                for &x in self.ct.triangulation().cell(c) {
                     if x.is_ghost() || x == u || x == w {
                         continue;
                     }
-                    let px = self.tri.vertex(x);
+                    let px = self.ct.triangulation().vertex(x);
                     let (xu, xw) = (sub(pu, px), sub(pw, px));
                     let cos = dot(xu, xw) / (dot(xu, xu) * dot(xw, xw)).sqrt();
                     if cos < 0.0 && best.is_none_or(|b| cos < b.0) {
@@ -1216,7 +1509,7 @@ impl<'a> State<'a> {
                 let present = |v: &[VertexId]| v.contains(&t[1]) && v.contains(&t[2]);
                 if self
                     .stars
-                    .find(&self.tri, t[0], &mut star, present)
+                    .find(self.ct.triangulation(), t[0], &mut star, present)
                     .is_none()
                 {
                     absent.push(k);
@@ -1272,20 +1565,25 @@ impl<'a> State<'a> {
                 // normals (both oriented with their facets) within the angle. This cheap test
                 // comes first; the star search only where it passes.
                 let normal = |t: [VertexId; 3]| {
-                    let q = t.map(|v| self.tri.vertex(v));
+                    let q = t.map(|v| self.ct.triangulation().vertex(v));
                     cross(sub(q[1], q[0]), sub(q[2], q[0]))
                 };
                 let (n0, n1) = (normal(t0), normal(t1));
                 let cos = dot(n0, n1) / (dot(n0, n0) * dot(n1, n1)).sqrt();
-                let pts = [u, w, x, y].map(|z| self.tri.vertex(z));
+                let pts = [u, w, x, y].map(|z| self.ct.triangulation().vertex(z));
                 if cos < FLAT_SURFACE.to_radians().cos() || min_dihedral(pts) >= FLAT_DIHEDRAL {
                     continue;
                 }
-                if !is_tetrahedron(&mut self.stars, &self.tri, [u, w, x, y], &mut star) {
+                if !is_tetrahedron(
+                    &mut self.stars,
+                    self.ct.triangulation(),
+                    [u, w, x, y],
+                    &mut star,
+                ) {
                     continue;
                 }
                 let on_domain_side = |t: [VertexId; 3], z: VertexId, s: f64| {
-                    let q = [t[0], t[1], t[2], z].map(|v| self.tri.vertex(v));
+                    let q = [t[0], t[1], t[2], z].map(|v| self.ct.triangulation().vertex(v));
                     let above = orient3d(q[0], q[1], q[2], q[3]) == Sign::Positive;
                     if above {
                         s > 0.0
@@ -1335,11 +1633,19 @@ impl<'a> State<'a> {
                         let o = subfaces[j];
                         let m = (0..3).find(|&m| o[m] == w).unwrap_or(0);
                         let y = o[(m + 2) % 3];
-                        if !is_tetrahedron(&mut self.stars, &self.tri, [u, w, x, y], &mut star) {
+                        if self.on_one_edge(f, [u, y, x]) || self.on_one_edge(f, [y, w, x]) {
+                            continue;
+                        }
+                        if !is_tetrahedron(
+                            &mut self.stars,
+                            self.ct.triangulation(),
+                            [u, w, x, y],
+                            &mut star,
+                        ) {
                             continue;
                         }
                         // y is on the side of (u, w, x)'s normal (the facet's) when positive.
-                        let p = [u, w, x, y].map(|z| self.tri.vertex(z));
+                        let p = [u, w, x, y].map(|z| self.ct.triangulation().vertex(z));
                         let above = orient3d(p[0], p[1], p[2], p[3]) == Sign::Positive;
                         let inside = if above { s > 0.0 } else { s < 0.0 };
                         if inside {
@@ -1386,15 +1692,18 @@ impl<'a> State<'a> {
                         continue;
                     };
                     let y = s[(pos + 2) % 3];
+                    if self.on_one_edge(f, [u, y, x]) || self.on_one_edge(f, [y, w, x]) {
+                        continue;
+                    }
                     let (cu, cw, cx, cy) = (coords[&u], coords[&w], coords[&x], coords[&y]);
                     if orient2d(cu, cy, cx) != Sign::Positive
                         || orient2d(cy, cw, cx) != Sign::Positive
                     {
                         continue;
                     }
-                    self.stars.star(&self.tri, x, star);
-                    if find_face_in(&self.tri, star, u, y, x).is_some()
-                        && find_face_in(&self.tri, star, y, w, x).is_some()
+                    self.stars.star(self.ct.triangulation(), x, star);
+                    if find_face_in(self.ct.triangulation(), star, u, y, x).is_some()
+                        && find_face_in(self.ct.triangulation(), star, y, w, x).is_some()
                     {
                         let (ti, tj) = (absent[i], absent[j]);
                         subfaces[ti] = [u, y, x];
@@ -1449,7 +1758,7 @@ impl<'a> State<'a> {
         let Ok(tri) = Triangulation2::new(&pts) else {
             return vec![self.facs[f]
                 .corners
-                .map(|i| self.tri.vertex_of_input(i as usize))];
+                .map(|i| self.ct.triangulation().vertex_of_input(i as usize))];
         };
         let ids: Vec<VertexId> = (0..pts.len()).map(|i| tri.vertex_of_input(i)).collect();
         let local = |i: usize| ids[i];
@@ -1471,7 +1780,7 @@ impl<'a> State<'a> {
         let Some((found, i)) = cdt.find_edge(local(0), local(1)) else {
             return vec![self.facs[f]
                 .corners
-                .map(|i| self.tri.vertex_of_input(i as usize))];
+                .map(|i| self.ct.triangulation().vertex_of_input(i as usize))];
         };
         // The cell with the edge running counter-clockwise is on its left: inside.
         let cell = t2.cell(found);
@@ -1484,7 +1793,7 @@ impl<'a> State<'a> {
         if t2.is_ghost(start) {
             return vec![self.facs[f]
                 .corners
-                .map(|i| self.tri.vertex_of_input(i as usize))];
+                .map(|i| self.ct.triangulation().vertex_of_input(i as usize))];
         }
         let mut seen = vec![false; t2.all_cells().map(|c| c.index() + 1).max().unwrap_or(0)];
         let mut stack = vec![start];
@@ -1511,6 +1820,16 @@ impl<'a> State<'a> {
         out
     }
 
+    /// Whether the three corners of `t` lie on one edge of facet `f` (its segment's points):
+    /// such a triangle has no area, though a point rounded off the edge's line can make it
+    /// look positive in the facet's frame.
+    fn on_one_edge(&self, f: usize, t: [VertexId; 3]) -> bool {
+        self.facs[f].segs.iter().any(|&(s, _)| {
+            let pts = &self.segs[s as usize].pts;
+            t.iter().all(|v| pts.iter().any(|p| p.1 == *v))
+        })
+    }
+
     /// Inserts the centroid of the missing sub-face `t` of facet `f` (true), or splits the
     /// sub-segment of the facet's boundary that `t` encroaches (false): see
     /// [`State::encroached_subsegment`].
@@ -1533,10 +1852,17 @@ impl<'a> State<'a> {
             }
         }
         let c = self.facs[f as usize].corners.map(|i| self.point(i));
-        let p = [0, 1, 2].map(|k| b[0] * c[0][k] + b[1] * c[1][k] + b[2] * c[2][k]);
+        // A coordinate the three corners share (an axis-aligned facet) is kept exactly.
+        let p = [0, 1, 2].map(|k| {
+            if c[0][k] == c[1][k] && c[1][k] == c[2][k] {
+                c[0][k]
+            } else {
+                b[0] * c[0][k] + b[1] * c[1][k] + b[2] * c[2][k]
+            }
+        });
         let s = self.facs[f as usize]
             .corners
-            .map(|i| self.spacing[self.tri.vertex_of_input(i as usize).index()]);
+            .map(|i| self.spacing[self.ct.triangulation().vertex_of_input(i as usize).index()]);
         let spacing = b[0] * s[0] + b[1] * s[1] + b[2] * s[2];
         let Some(v) = self.add_vertex(p, spacing, t[0])? else {
             return Err(self.not_recovered(vec![f]));

@@ -188,7 +188,15 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
     };
     let (quality_before_smoothing, restoration) = if restore {
         let (q, r) = rayon::join(measure_before, || {
-            restore_after_smoothing(&mut mesh, &arrays, plc, options.max_steiner_points)
+            // After a constrained recovery, faces next to the edges and faces it flipped in
+            // fail the insphere test by design: flips only, no split, no retriangulation.
+            let flips_only = recovery_history.method == RecoveryMethod3::Constrained
+                && !recovery_history.constrained_fallback;
+            if flips_only {
+                Ok(restore_by_flips(&mut mesh, &arrays))
+            } else {
+                restore_after_smoothing(&mut mesh, &arrays, plc, options.max_steiner_points)
+            }
         });
         (q, Some(r?))
     } else {
@@ -223,7 +231,9 @@ pub enum Restoration3 {
     /// In the mesh itself: flips, and where they stopped short, edges split at their
     /// mid-points (each split followed by flips again).
     Flips {
-        /// The flips (`failing`: the faces that failed before the first flip; `left`: 0).
+        /// The flips (`failing`: the faces that failed before the first flip; `left`: none,
+        /// except after a constrained recovery, whose mesh keeps them: see
+        /// [`restore_by_flips`]).
         flips: Flips3,
         /// Edges split at their mid-points.
         split_edges: usize,
@@ -238,6 +248,29 @@ pub enum Restoration3 {
         /// The second recovery.
         history: RecoveryHistory3,
     },
+}
+
+/// After a constrained recovery, moves the smoothed points (`arrays.coords`) in `mesh` and
+/// flips every face that fails the insphere test where a flip applies; the faces left (next
+/// to the boundary edges and faces that recovery flipped in, which a constrained mesh keeps)
+/// are reported, not split.
+pub fn restore_by_flips(mesh: &mut Mesh3, arrays: &MeshArrays3) -> Restoration3 {
+    let tri = mesh.ct.triangulation();
+    let moves: Vec<_> = arrays
+        .vertex
+        .iter()
+        .zip(&arrays.coords)
+        .filter(|&(&v, &p)| tri.vertex(v) != p)
+        .map(|(&v, &p)| (v, p))
+        .collect();
+    // Smoothing keeps every element positive, so the move is accepted; if it were not, the
+    // smoothed points are dropped and the recovered mesh flipped as it is.
+    let _ = mesh.ct.move_vertices(&moves);
+    Restoration3::Flips {
+        flips: mesh.ct.make_delaunay(|_| true),
+        split_edges: 0,
+        surface_points: 0,
+    }
 }
 
 /// The most rounds of edge splits (each followed by flips) before [`restore_after_smoothing`]
@@ -430,13 +463,21 @@ impl MeshRun3 {
                 surface_points,
             }) => s.push_str(&format!(
                 "delaunay restoration: {} faces failed; {} flips (2-3: {}, 3-2: {}), {} edges \
-                 split ({} on the surface)\n",
+                 split ({} on the surface){}\n",
                 f.failing,
                 f.two_three + f.three_two,
                 f.two_three,
                 f.three_two,
                 split_edges,
-                surface_points
+                surface_points,
+                if f.left.is_empty() {
+                    String::new()
+                } else {
+                    format!(
+                        "; {} faces by the constrained boundary kept as they are",
+                        f.left.len()
+                    )
+                }
             )),
             Some(Restoration3::Retriangulated { history }) => s.push_str(&format!(
                 "delaunay restoration: triangulated again, {} surface points added ({} on \
@@ -636,7 +677,7 @@ impl MeshRun3 {
                     .collect(),
             );
             format!(
-                "{{\"surface_points\": {}, \"field_points\": {}, \"duplicates_merged\": {}, \"surface_faces\": {}, \"planar_flips\": {}, \"surface_edges\": {}, \"initial_tetrahedra\": {}, \"steps\": {steps}, \"edge_points\": {}, \"face_points\": {}, \"final_surface_edges\": {}, \"final_surface_faces\": {}, \"tetrahedra_outside\": {}, \"tetrahedra_inside\": {}}}",
+                "{{\"surface_points\": {}, \"field_points\": {}, \"duplicates_merged\": {}, \"surface_faces\": {}, \"planar_flips\": {}, \"surface_edges\": {}, \"initial_tetrahedra\": {}, \"steps\": {steps}, \"edge_points\": {}, \"face_points\": {}, \"final_surface_edges\": {}, \"final_surface_faces\": {}, \"flips\": {}, \"flipped_in\": {}, \"constrained_fallback\": {}, \"tetrahedra_outside\": {}, \"tetrahedra_inside\": {}}}",
                 h.surface_points,
                 h.field_points,
                 h.merged_points.len(),
@@ -648,6 +689,9 @@ impl MeshRun3 {
                 h.face_points,
                 h.final_surface_edges,
                 h.final_surface_faces,
+                h.flips,
+                h.flipped_in,
+                h.constrained_fallback,
                 h.tetrahedra_outside,
                 h.tetrahedra_inside
             )
@@ -673,8 +717,11 @@ impl MeshRun3 {
             }) => format!(
                 "{{\"method\": \"flips\", \"failing\": {}, \"two_three\": {}, \
                  \"three_two\": {}, \"split_edges\": {split_edges}, \"surface_points\": \
-                 {surface_points}, \"recovery\": null}}",
-                f.failing, f.two_three, f.three_two
+                 {surface_points}, \"left\": {}, \"recovery\": null}}",
+                f.failing,
+                f.two_three,
+                f.three_two,
+                f.left.len()
             ),
             Some(Restoration3::Retriangulated { history: h }) => format!(
                 "{{\"method\": \"retriangulated\", \"recovery\": {}}}",

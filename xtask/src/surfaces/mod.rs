@@ -235,6 +235,10 @@ struct Outcome {
     rec_dm: Option<Run>,
     /// `delmesh --merge-coplanar`: coplanar facets re-triangulated (checked per planar patch).
     rec_dmm: Option<Run>,
+    /// `delmesh --recovery constrained`: flips first (against `tetgen -pMQ`).
+    rec_dmc: Option<Run>,
+    /// `delmesh --recovery constrained --merge-coplanar` (against `tetgen -pQ`).
+    rec_dmcm: Option<Run>,
     rec_tg: Option<Run>,
     /// `tetgen -pMQ`: no merging of coplanar facets, so every input triangle must be
     /// recovered, as delmesh does.
@@ -282,8 +286,22 @@ enum DmStage {
     Recovery,
     /// `--no-points --merge-coplanar` (checked per planar patch).
     RecoveryMerged,
+    /// `--no-points --recovery constrained`.
+    RecoveryConstrained,
+    /// `--no-points --recovery constrained --merge-coplanar` (checked per planar patch).
+    RecoveryConstrainedMerged,
     /// The full pipeline (quality measured).
     Full,
+}
+
+impl DmStage {
+    /// Whether coplanar facets are merged (coverage is checked per planar patch).
+    fn merged(self) -> bool {
+        matches!(
+            self,
+            DmStage::RecoveryMerged | DmStage::RecoveryConstrainedMerged
+        )
+    }
 }
 
 /// Runs delmesh on `input` for `stage` (see [`run_delmesh`]), reads its mesh back and checks
@@ -303,7 +321,7 @@ fn checked_delmesh(
         &ele,
         surface,
         stage == DmStage::Full,
-        stage == DmStage::RecoveryMerged,
+        stage.merged(),
     );
     if run.checks.as_ref().is_some_and(|c| c.failures.is_empty()) && run.why.is_empty() {
         remove_mesh(&ele);
@@ -338,8 +356,14 @@ fn run_delmesh(
     if recovery_only {
         args.push(os("--no-points"));
     }
-    if stage == DmStage::RecoveryMerged {
+    if stage.merged() {
         args.push(os("--merge-coplanar"));
+    }
+    if matches!(
+        stage,
+        DmStage::RecoveryConstrained | DmStage::RecoveryConstrainedMerged
+    ) {
+        args.extend([os("--recovery"), os("constrained")]);
     }
     let timed = tools::run_timed(bin, &args, &dir.join(format!("{name}.time")), limit)?;
     let mut run = Run {
@@ -480,6 +504,8 @@ fn run_case(ctx: &Ctx, bin: &Path, meshes: Option<&Path>, case: Case, lim: u64) 
         tetgen_input: String::new(),
         rec_dm: None,
         rec_dmm: None,
+        rec_dmc: None,
+        rec_dmcm: None,
         rec_tg: None,
         rec_tgm: None,
         full_dm: None,
@@ -619,18 +645,40 @@ fn run_case_inner(
     let tg_ok = tg.ok;
     o.rec_dm = Some(dm);
     o.rec_tg = Some(tg);
-    // delmesh re-triangulating coplanar facets, as TetGen's default does (against -pQ).
+    // delmesh re-triangulating coplanar facets, as TetGen's default does (against -pQ), and
+    // the constrained recovery (flips first), as TetGen's is, without and with merging.
     if dm_ok {
-        eprintln!("xtask: {name}: delmesh mesh --no-points --merge-coplanar");
-        o.rec_dmm = Some(checked_delmesh(
-            bin,
-            &raw_path,
-            &dir.join("recovery-delmesh-merged"),
-            name,
-            DmStage::RecoveryMerged,
-            lim,
-            &input,
-        )?);
+        for (stage, what, folder, slot) in [
+            (
+                DmStage::RecoveryMerged,
+                "--merge-coplanar",
+                "recovery-delmesh-merged",
+                &mut o.rec_dmm,
+            ),
+            (
+                DmStage::RecoveryConstrained,
+                "--recovery constrained",
+                "recovery-delmesh-constrained",
+                &mut o.rec_dmc,
+            ),
+            (
+                DmStage::RecoveryConstrainedMerged,
+                "--recovery constrained --merge-coplanar",
+                "recovery-delmesh-constrained-merged",
+                &mut o.rec_dmcm,
+            ),
+        ] {
+            eprintln!("xtask: {name}: delmesh mesh --no-points {what}");
+            *slot = Some(checked_delmesh(
+                bin,
+                &raw_path,
+                &dir.join(folder),
+                name,
+                stage,
+                lim,
+                &input,
+            )?);
+        }
     }
 
     // 2. Full pipeline, for the tools that recovered the surface.
@@ -752,6 +800,11 @@ fn judge(o: &mut Outcome) {
             for (stage, run) in [
                 ("recovery", &o.rec_dm),
                 ("recovery --merge-coplanar", &o.rec_dmm),
+                ("recovery --recovery constrained", &o.rec_dmc),
+                (
+                    "recovery --recovery constrained --merge-coplanar",
+                    &o.rec_dmcm,
+                ),
                 ("full pipeline", &o.full_dm),
             ] {
                 let Some(run) = run else { continue };
@@ -832,23 +885,28 @@ const RECOVERY_HEADER: &[&str] = &[
     "dm Steiner",
     "dm tets",
     "dm wall s",
-    "dm cpu s",
     "dm recovery s",
     "dm MB",
+    "dm -m Steiner",
+    "dm -m recovery s",
+    "dm -c Steiner",
+    "dm -c recovery s",
+    "dm -cm Steiner",
+    "dm -cm tets",
+    "dm -cm wall s",
+    "dm -cm recovery s",
     "TetGen",
     "tg Steiner",
     "tg tets",
     "tg wall s",
-    "tg cpu s",
     "tg MB",
     "tg -M Steiner",
     "tg -M tets",
     "tg -M wall s",
-    "dm -m Steiner",
-    "dm -m wall s",
-    "dm -m recovery s",
     "delmesh checks",
     "dm -m checks",
+    "dm -c checks",
+    "dm -cm checks",
     "TetGen checks",
     "TetGen -M checks",
 ];
@@ -874,6 +932,11 @@ fn recovery_row(o: &Outcome) -> Vec<String> {
             format!("{} [{}]", r.recovered(), o.tetgen_input)
         }
     });
+    let steiner = |r: Option<&Run>| match r {
+        Some(r) if !r.ok => r.recovered(),
+        _ => opt(r.and_then(|r| r.steiner)),
+    };
+    let (dmc, dmcm) = (o.rec_dmc.as_ref(), o.rec_dmcm.as_ref());
     vec![
         o.case.name.into(),
         vf,
@@ -883,29 +946,28 @@ fn recovery_row(o: &Outcome) -> Vec<String> {
         opt(dm.and_then(|r| r.steiner)),
         opt(dm.and_then(|r| r.tets)),
         s3(dm.and_then(|r| r.timed.wall)),
-        s3(dm.and_then(|r| r.timed.cpu)),
         s3(dm.and_then(|r| r.recovery_secs)),
         mb(dm.and_then(|r| r.timed.rss_kb)),
+        steiner(dmm),
+        s3(dmm.and_then(|r| r.recovery_secs)),
+        steiner(dmc),
+        s3(dmc.and_then(|r| r.recovery_secs)),
+        steiner(dmcm),
+        opt(dmcm.and_then(|r| r.tets)),
+        s3(dmcm.and_then(|r| r.timed.wall)),
+        s3(dmcm.and_then(|r| r.recovery_secs)),
         tetgen,
         opt(tg.and_then(|r| r.steiner)),
         opt(tg.and_then(|r| r.tets)),
         s3(tg.and_then(|r| r.timed.wall)),
-        s3(tg.and_then(|r| r.timed.cpu)),
         mb(tg.and_then(|r| r.timed.rss_kb)),
-        match tgm {
-            Some(r) if !r.ok => r.recovered(),
-            _ => opt(tgm.and_then(|r| r.steiner)),
-        },
+        steiner(tgm),
         opt(tgm.and_then(|r| r.tets)),
         s3(tgm.and_then(|r| r.timed.wall)),
-        match dmm {
-            Some(r) if !r.ok => r.recovered(),
-            _ => opt(dmm.and_then(|r| r.steiner)),
-        },
-        s3(dmm.and_then(|r| r.timed.wall)),
-        s3(dmm.and_then(|r| r.recovery_secs)),
         verdict(o, &o.rec_dm),
         verdict(o, &o.rec_dmm),
+        verdict(o, &o.rec_dmc),
+        verdict(o, &o.rec_dmcm),
         tg.map_or("-".into(), |r| r.checks_cell_as("differs")),
         tgm.map_or("-".into(), |r| r.checks_cell_as("differs")),
     ]
@@ -997,7 +1059,7 @@ tolerance 1e-8 and re-triangulates them, so it need not recover their shared edg
 moves the nearly coplanar ones); `dm -m`: `delmesh mesh X.off --no-points --merge-coplanar`, \
 which re-triangulates exactly coplanar neighbouring triangles by flipping their diagonals \
 (the one to compare with `tetgen -pQ`; its coverage is checked per planar patch of the input: \
-triangles joined across edges where both lie exactly in one plane). Full pipeline: `delmesh mesh X.off -o X.ele --report X.json \
+triangles joined across edges where both lie exactly in one plane); `dm -c`: `--no-points --recovery constrained` (flips first, points only where flips stop short, as TetGen's constrained recovery: compare with `tetgen -pMQ`), `dm -cm`: the same with `--merge-coplanar` (compare with `tetgen -pQ`). Full pipeline: `delmesh mesh X.off -o X.ele --report X.json \
 --quiet` (automatic points, Delaunay restoration) and `tetgen -pqQ X` (radius-edge bound 2). \
 X is the raw .off, except `[.smesh with 1 hole point]` (a void, which an .off cannot mark \
 for TetGen; delmesh finds it by nesting) and `[cleaned (raw: abort)]` (TetGen 1.5 aborts on \
