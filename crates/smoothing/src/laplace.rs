@@ -337,7 +337,7 @@ impl Smoother {
                     for (slot, &h) in buf[n..].iter_mut().zip(&tile.halo) {
                         *slot = rest[h as usize - layout.seam_start];
                     }
-                    let (mut t, mut star) = (Tally::default(), Star::new(layout.widest));
+                    let (mut t, mut star) = (Tally::default(), Star::new(layout.widest, self.omega));
                     for v in 0..n {
                         let (ring, m) = tile.rings.row(v);
                         buf[v] = self.propose(buf, v, ring, m, &mut star, &mut t);
@@ -353,7 +353,7 @@ impl Smoother {
                 let read: &[[f64; 2]] = points;
                 let task = |(k, chunk): (usize, &mut [[f64; 2]])| {
                     let first = range.start + k * CHUNK;
-                    let (mut t, mut star) = (Tally::default(), Star::new(layout.widest));
+                    let (mut t, mut star) = (Tally::default(), Star::new(layout.widest, self.omega));
                     for (i, slot) in chunk.iter_mut().enumerate() {
                         let (ring, m) = layout.rings.row(first + i - layout.seam_start);
                         *slot = self.propose(read, first + i, ring, m, &mut star, &mut t);
@@ -428,7 +428,7 @@ impl Smoother {
         }
         let ring = &padded[..m];
         (star.x[0], star.y[0]) = (star.x[m], star.y[m]);
-        let w = self.omega / m as f64;
+        let w = star.weight[m];
         let mut step = [w * sx, w * sy];
         for halving in 0..=MAX_HALVINGS {
             let y = [x[0] + step[0], x[1] + step[1]];
@@ -469,15 +469,18 @@ fn run(c: &[f64], at: usize) -> &Lanes {
 struct Star {
     x: Vec<f64>,
     y: Vec<f64>,
+    /// `ω / m` for rings of `m` points: no division on the way from the sums to the move.
+    weight: Vec<f64>,
 }
 
 impl Star {
-    /// Room for rings of up to `widest` points.
-    fn new(widest: usize) -> Star {
+    /// Room for rings of up to `widest` points, moved with relaxation factor `omega`.
+    fn new(widest: usize, omega: f64) -> Star {
         let len = widest + LANES + 1;
         Star {
             x: vec![0.0; len],
             y: vec![0.0; len],
+            weight: (0..=widest).map(|m| omega / m as f64).collect(),
         }
     }
 
