@@ -560,16 +560,31 @@ impl ConstrainedTriangulation2 {
         // Only the edges failing the test start the flips: they are found in parallel, in cell
         // order (read-only). An edge that passes can fail only after a flip changes one of its
         // cells, and every flip queues the edges around it.
+        // (The test of `needs_flip`, with each cell and its constraints read once.)
+        self.sync();
         let this = &*self;
-        let failing: Vec<FacetRef> = (0..self.tri.simplices.len() as u32)
-            .into_par_iter()
+        let failing: Vec<FacetRef> = self
+            .tri
+            .simplices
+            .par_iter()
+            .zip(&self.constrained)
+            .enumerate()
             .with_min_len(1 << 12)
-            .map(CellId)
-            .filter(|&c| this.tri.is_live(c) && !this.tri.is_ghost(c))
-            .flat_map_iter(|c| {
+            .flat_map_iter(|(c, (s, &cons))| {
+                let c = CellId(c as u32);
+                // Live (a free slot's first vertex is DEAD) and finite.
+                let finite = s.v[..3]
+                    .iter()
+                    .all(|&u| !u.is_ghost() && u != VertexId::DEAD);
                 (0..3).filter_map(move |i| {
-                    let n = this.tri.simplices[c.index()].n[i].cell();
-                    (c < n && this.needs_flip(c, i)).then_some(FacetRef::new(c, i))
+                    let across = s.n[i];
+                    if !finite || c >= across.cell() || bit(cons, i) != 0 {
+                        return None;
+                    }
+                    let d = this.tri.simplices[across.cell().index()].v[across.facet()];
+                    let fails = !d.is_ghost()
+                        && D2::insphere_cell(&this.tri.points, &s.v, this.pt(d)) == Sign::Positive;
+                    fails.then_some(FacetRef::new(c, i))
                 })
             })
             .collect();
