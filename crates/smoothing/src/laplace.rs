@@ -337,7 +337,8 @@ impl Smoother {
                     for (slot, &h) in buf[n..].iter_mut().zip(&tile.halo) {
                         *slot = rest[h as usize - layout.seam_start];
                     }
-                    let (mut t, mut star) = (Tally::default(), Star::new(layout.widest, self.omega));
+                    let (mut t, mut star) =
+                        (Tally::default(), Star::new(layout.widest, self.omega));
                     for v in 0..n {
                         let (ring, m) = tile.rings.row(v);
                         buf[v] = self.propose(buf, v, ring, m, &mut star, &mut t);
@@ -353,7 +354,8 @@ impl Smoother {
                 let read: &[[f64; 2]] = points;
                 let task = |(k, chunk): (usize, &mut [[f64; 2]])| {
                     let first = range.start + k * CHUNK;
-                    let (mut t, mut star) = (Tally::default(), Star::new(layout.widest, self.omega));
+                    let (mut t, mut star) =
+                        (Tally::default(), Star::new(layout.widest, self.omega));
                     for (i, slot) in chunk.iter_mut().enumerate() {
                         let (ring, m) = layout.rings.row(first + i - layout.seam_start);
                         *slot = self.propose(read, first + i, ring, m, &mut star, &mut t);
