@@ -20,7 +20,7 @@
 use crate::dim::{Dim, D2};
 use crate::error::{ConstraintError, TriangulationError};
 use crate::ids::{CellId, FacetRef, VertexId};
-use crate::triangulation::{Insertion, Location, Triangulation};
+use crate::triangulation::{Insertion, Location, Simplex, Triangulation};
 use delmesh_predicates::{orient2d, Sign};
 use rayon::prelude::*;
 use std::collections::VecDeque;
@@ -351,22 +351,28 @@ impl ConstrainedTriangulation2 {
     fn split_cell(&mut self, c: CellId, v: VertexId) {
         let s = self.tri.simplices[c.index()];
         let (cons, tag) = (self.constrained[c.index()], self.tags[c.index()]);
+        // k_i is c with its vertex i replaced by v (k_0 is c itself): facet i of k_i is the
+        // outer edge facet i of c was, and facet j of k_i (the edge through v and vertex
+        // 3 − i − j) is facet i of k_j. Each cell is written whole.
         let k1 = self.tri.alloc_cell(&[s.v[0], v, s.v[2]]);
         let k2 = self.tri.alloc_cell(&[s.v[0], s.v[1], v]);
         self.sync();
-        self.tri.simplices[c.index()].v[0] = v;
-        let ks = [c, k1, k2];
-        for (i, &k) in ks.iter().enumerate() {
-            self.tri.link(FacetRef::new(k, i), s.n[i]);
+        let inner = |k: CellId, i: usize| FacetRef::new(k, i);
+        self.tri.simplices[c.index()] = Simplex {
+            v: [v, s.v[1], s.v[2], s.v[3]],
+            n: [s.n[0], inner(k1, 0), inner(k2, 0), s.n[3]],
+        };
+        self.tri.simplices[k1.index()].n[..3].copy_from_slice(&[inner(c, 1), s.n[1], inner(k2, 1)]);
+        self.tri.simplices[k2.index()].n[..3].copy_from_slice(&[inner(c, 2), inner(k1, 2), s.n[2]]);
+        // The cell across facet 0 still faces facet 0 of c; the other two now face k1, k2.
+        self.tri.set_neighbor(s.n[1], inner(k1, 1));
+        self.tri.set_neighbor(s.n[2], inner(k2, 2));
+        for (i, k) in [c, k1, k2].into_iter().enumerate() {
             self.constrained[k.index()] = bit(cons, i) << i;
             self.tags[k.index()] = tag;
             self.touch(k);
             self.stack.push(FacetRef::new(k, i));
         }
-        // Facet j of k_i (the edge through v and vertex 3 − i − j) is facet i of k_j.
-        self.tri.link(FacetRef::new(c, 1), FacetRef::new(k1, 0));
-        self.tri.link(FacetRef::new(c, 2), FacetRef::new(k2, 0));
-        self.tri.link(FacetRef::new(k1, 2), FacetRef::new(k2, 1));
         self.set_incident(v, c);
         self.set_incident(s.v[1], c);
         self.set_incident(s.v[2], c);
@@ -442,20 +448,33 @@ impl ConstrainedTriangulation2 {
     /// of both and the new edge `a d` is facet 1 of the first, facet 2 of the second.
     fn flip(&mut self, c: CellId, i: usize) -> (CellId, CellId) {
         let s = self.tri.simplices[c.index()];
+        let t = self.tri.simplices[s.n[i].cell().index()];
+        self.flip_loaded(c, i, s, t)
+    }
+
+    /// [`Self::flip`], given the two cells as they are (`s` of `c`, `t` across its facet `i`).
+    #[inline(always)]
+    fn flip_loaded(&mut self, c: CellId, i: usize, s: Simplex, t: Simplex) -> (CellId, CellId) {
         let across = s.n[i];
         let (e, j) = (across.cell(), across.facet());
-        let t = self.tri.simplices[e.index()];
         let (a, b, q, d) = (s.v[i], s.v[next(i)], s.v[prev(i)], t.v[j]);
         debug_assert!(t.v[next(j)] == q && t.v[prev(j)] == b);
         let (cc, ce) = (self.constrained[c.index()], self.constrained[e.index()]);
         let tag = self.tags[c.index()];
-        self.tri.simplices[c.index()].v = [a, b, d, VertexId::GHOST];
-        self.tri.simplices[e.index()].v = [a, d, q, VertexId::GHOST];
-        self.tri.link(FacetRef::new(c, 0), t.n[next(j)]); // edge b d
-        self.tri.link(FacetRef::new(c, 2), s.n[prev(i)]); // edge a b
-        self.tri.link(FacetRef::new(e, 0), t.n[prev(j)]); // edge d q
-        self.tri.link(FacetRef::new(e, 1), s.n[next(i)]); // edge q a
-        self.tri.link(FacetRef::new(c, 1), FacetRef::new(e, 2)); // edge a d
+        // The outer edges b d, a b (now of c) and d q, q a (now of e).
+        let (bd, ab, dq, qa) = (t.n[next(j)], s.n[prev(i)], t.n[prev(j)], s.n[next(i)]);
+        self.tri.simplices[c.index()] = Simplex {
+            v: [a, b, d, VertexId::GHOST],
+            n: [bd, FacetRef::new(e, 2), ab, s.n[3]],
+        };
+        self.tri.simplices[e.index()] = Simplex {
+            v: [a, d, q, VertexId::GHOST],
+            n: [dq, qa, FacetRef::new(c, 1), t.n[3]],
+        };
+        self.tri.set_neighbor(bd, FacetRef::new(c, 0));
+        self.tri.set_neighbor(ab, FacetRef::new(c, 2));
+        self.tri.set_neighbor(dq, FacetRef::new(e, 0));
+        self.tri.set_neighbor(qa, FacetRef::new(e, 1));
         self.constrained[c.index()] = bit(ce, next(j)) | bit(cc, prev(i)) << 2;
         self.constrained[e.index()] = bit(ce, prev(j)) | bit(cc, next(i)) << 1;
         self.tags[e.index()] = tag;
@@ -487,13 +506,26 @@ impl ConstrainedTriangulation2 {
 
     /// Lawson flips after inserting `v`: the queued edges are opposite `v`; each flip queues the
     /// two new edges opposite `v`.
+    ///
+    /// (The test of [`Self::needs_flip`] on cells read once: a cell holding `v` is finite, since
+    /// `v` is inside the hull.)
     fn legalize_around(&mut self, v: VertexId) {
         while let Some(fr) = self.stack.pop() {
             let (c, i) = (fr.cell(), fr.facet());
-            if self.tri.simplices[c.index()].v[i] != v || !self.needs_flip(c, i) {
+            let s = self.tri.simplices[c.index()];
+            if s.v[i] != v || self.is_constrained(c, i) {
                 continue;
             }
-            let (t1, t2) = self.flip(c, i);
+            debug_assert!(s.v[..3].iter().all(|u| !u.is_ghost()));
+            let across = s.n[i];
+            let t = self.tri.simplices[across.cell().index()];
+            let d = t.v[across.facet()];
+            if d.is_ghost()
+                || D2::insphere_cell(&self.tri.points, &s.v, self.pt(d)) != Sign::Positive
+            {
+                continue;
+            }
+            let (t1, t2) = self.flip_loaded(c, i, s, t);
             self.stack.push(FacetRef::new(t1, 0));
             self.stack.push(FacetRef::new(t2, 0));
         }
@@ -528,16 +560,31 @@ impl ConstrainedTriangulation2 {
         // Only the edges failing the test start the flips: they are found in parallel, in cell
         // order (read-only). An edge that passes can fail only after a flip changes one of its
         // cells, and every flip queues the edges around it.
+        // (The test of `needs_flip`, with each cell and its constraints read once.)
+        self.sync();
         let this = &*self;
-        let failing: Vec<FacetRef> = (0..self.tri.simplices.len() as u32)
-            .into_par_iter()
+        let failing: Vec<FacetRef> = self
+            .tri
+            .simplices
+            .par_iter()
+            .zip(&self.constrained)
+            .enumerate()
             .with_min_len(1 << 12)
-            .map(CellId)
-            .filter(|&c| this.tri.is_live(c) && !this.tri.is_ghost(c))
-            .flat_map_iter(|c| {
+            .flat_map_iter(|(c, (s, &cons))| {
+                let c = CellId(c as u32);
+                // Live (a free slot's first vertex is DEAD) and finite.
+                let finite = s.v[..3]
+                    .iter()
+                    .all(|&u| !u.is_ghost() && u != VertexId::DEAD);
                 (0..3).filter_map(move |i| {
-                    let n = this.tri.simplices[c.index()].n[i].cell();
-                    (c < n && this.needs_flip(c, i)).then_some(FacetRef::new(c, i))
+                    let across = s.n[i];
+                    if !finite || c >= across.cell() || bit(cons, i) != 0 {
+                        return None;
+                    }
+                    let d = this.tri.simplices[across.cell().index()].v[across.facet()];
+                    let fails = !d.is_ghost()
+                        && D2::insphere_cell(&this.tri.points, &s.v, this.pt(d)) == Sign::Positive;
+                    fails.then_some(FacetRef::new(c, i))
                 })
             })
             .collect();

@@ -1136,6 +1136,22 @@ impl<D: Dim> Triangulation<D> {
         self.simplices[b.cell().index()].n[b.facet()] = a;
     }
 
+    /// Sets the neighbour seen across facet `f` (the facet of the cell on the other side).
+    #[inline]
+    pub(crate) fn set_neighbor(&mut self, f: FacetRef, across: FacetRef) {
+        self.simplices[f.cell().index()].n[f.facet()] = across;
+    }
+
+    /// Room for more cells: a quarter more rather than double, since the arrays are most of
+    /// the memory.
+    #[cold]
+    fn grow_cells(&mut self) {
+        let extra = (self.simplices.len() / 4).max(64);
+        self.simplices.reserve_exact(extra);
+        self.mark.reserve_exact(extra);
+    }
+
+    #[inline]
     pub(crate) fn alloc_cell(&mut self, verts: &[VertexId]) -> CellId {
         if let Some(c) = self.free.pop() {
             self.simplices[c.index()].v[..D::C].copy_from_slice(verts);
@@ -1143,10 +1159,7 @@ impl<D: Dim> Triangulation<D> {
         }
         let c = CellId(self.mark.len() as u32);
         if self.simplices.len() == self.simplices.capacity() {
-            // Grow by a quarter rather than doubling: the arrays are most of the memory.
-            let extra = (self.simplices.len() / 4).max(64);
-            self.simplices.reserve_exact(extra);
-            self.mark.reserve_exact(extra);
+            self.grow_cells();
         }
         let mut simplex = Simplex {
             v: [VertexId::GHOST; 4],

@@ -279,7 +279,9 @@ impl PointGeneration {
         let reach = self.alpha * h;
         let reach2 = reach * reach;
         let dist2 = |q: [f64; 2]| (q[0] - g[0]) * (q[0] - g[0]) + (q[1] - g[1]) * (q[1] - g[1]);
-        if p.iter().any(|&q| dist2(q) <= reach2) {
+        // All three distances, then one branch (a branch per node went either way at random).
+        let [n0, n1, n2] = p.map(|q| dist2(q) <= reach2);
+        if n0 | n1 | n2 {
             return Candidate::Refused;
         }
         Candidate::At { g, h, reach2 }

@@ -64,26 +64,23 @@ impl Part {
             let d = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2);
             // Squared length of the edge opposite each vertex.
             let e = [d(p[1], p[2]), d(p[2], p[0]), d(p[0], p[1])];
-            let shortest = if e[1] < e[0] && e[1] <= e[2] {
-                1
-            } else if e[2] < e[0] && e[2] < e[1] {
-                2
-            } else {
-                0
-            };
-            let longest = if e[1] > e[0] && e[1] >= e[2] {
-                1
-            } else if e[2] > e[0] && e[2] > e[1] {
-                2
-            } else {
-                0
-            };
+            // Which edge is shortest and longest (the first of equals), without branches: the
+            // comparisons are as likely one way as the other.
+            let pick = |one: bool, two: bool| usize::from(one) + 2 * usize::from(two & !one);
+            let shortest = pick(
+                (e[1] < e[0]) & (e[1] <= e[2]),
+                (e[2] < e[0]) & (e[2] < e[1]),
+            );
+            let longest = pick(
+                (e[1] > e[0]) & (e[1] >= e[2]),
+                (e[2] > e[0]) & (e[2] > e[1]),
+            );
             let tmin = corner(p, shortest).to_degrees();
             r.lo = r.lo.min(tmin);
             r.sum_min += tmin;
             let bin = ((tmin / 10.0) as usize).min(5);
             r.histogram[bin] += 1;
-            let (o, u, w) = (p[longest], p[(longest + 1) % 3], p[(longest + 2) % 3]);
+            let (o, u, w) = (p[longest], p[NEXT[longest]], p[NEXT[NEXT[longest]]]);
             let dot = (u[0] - o[0]) * (w[0] - o[0]) + (u[1] - o[1]) * (w[1] - o[1]);
             let cos2 = dot * dot.abs() / (d(u, o) * d(w, o));
             if cos2 < r.widest.0 {
@@ -101,9 +98,12 @@ impl Part {
     }
 }
 
+/// The next vertex of a triangle, counter-clockwise.
+const NEXT: [usize; 3] = [1, 2, 0];
+
 /// The angle of triangle `p` at its vertex `k` (radians).
 fn corner(p: [[f64; 2]; 3], k: usize) -> f64 {
-    angle(p[k], p[(k + 1) % 3], p[(k + 2) % 3])
+    angle(p[k], p[NEXT[k]], p[NEXT[NEXT[k]]])
 }
 
 impl QualityReport {
