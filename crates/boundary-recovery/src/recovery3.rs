@@ -42,15 +42,15 @@
 //! **Constrained recovery** ([`RecoveryMethod3::Constrained`], beyond the paper): each missing
 //! sub-segment, then each missing sub-face, is first made present by flips
 //! ([`ConstrainedTriangulation3::flip_in_edge`], [`ConstrainedTriangulation3::flip_in_face`];
-//! never removing a sub-segment or a sub-face found present), and the cells the flips made are
-//! flipped back towards the Delaunay property where that removes neither; a point is added, as
-//! above, only where the flips stop short, by splitting what it lies in and flipping
-//! ([`ConstrainedTriangulation3::insert_splitting`]). Most surfaces then need far fewer points
+//! never removing a sub-segment or a sub-face found present); a point is added, as above, only
+//! where the flips stop short: by Bowyer–Watson where the cells around it are still Delaunay,
+//! else by splitting what it lies in, then flipping back to the Delaunay property where that
+//! removes no sub-segment ([`ConstrainedTriangulation3::insert_growing`]). Most surfaces then need far fewer points
 //! (a CAD surface of long thin triangles: tens instead of thousands), and the mesh is not
 //! Delaunay next to what was flipped in. Splitting after flips is not bound to end as the
 //! Delaunay splitting is: where a sub-segment would get shorter than 1/1024 of its segment or
-//! the bound of added points is reached, the conforming recovery runs instead, from the same
-//! first tetrahedralisation
+//! more points than 4 per surface point (plus 1,000) are added, the conforming recovery runs
+//! instead, from the same first tetrahedralisation
 //! ([`RecoveryHistory3::constrained_fallback`]).
 //!
 //! The recovered faces are then protected ([`ConstrainedTriangulation3`]) and the cells are
@@ -478,7 +478,9 @@ impl BoundaryRecovery3 {
     }
 
     /// The most points recovery may add before it gives up with
-    /// [`RecoveryError::SurfaceNotRecovered`] (default: 20 per surface point, at least 10,000).
+    /// [`RecoveryError::SurfaceNotRecovered`] (default: 50 per surface point, at least
+    /// 100,000: splitting ends, the bound only keeps a pathological input from exhausting
+    /// memory; a 96-sided cylinder with fans for caps needs 10,120 for 480 points).
     pub fn max_steiner_points(mut self, n: usize) -> Self {
         self.max_steiner = Some(n);
         self
@@ -700,7 +702,7 @@ impl BoundaryRecovery3 {
 const CONSTRAINED_FINEST: f64 = 1.0 / 1024.0;
 
 /// Flips tried for one missing edge or face before a point is added instead.
-const MAX_FLIPS: usize = 64;
+const MAX_FLIPS: usize = 32;
 
 /// An edge's key in [`State::locked`]: its two vertices, lower first.
 fn edge_key(a: VertexId, b: VertexId) -> u64 {
@@ -961,7 +963,15 @@ impl<'a> State<'a> {
             star2: Vec::new(),
             star: Vec::new(),
             shortest: dist(lo, hi) * 2f64.powi(-40),
-            budget: max_steiner.unwrap_or((20 * n_surface).max(10_000)),
+            budget: {
+                let bound = max_steiner.unwrap_or((50 * n_surface).max(100_000));
+                // Flips leave few points to add; many more mean they are not finishing.
+                if constrained {
+                    bound.min(4 * n_surface + 1000)
+                } else {
+                    bound
+                }
+            },
             added: 0,
             changes: 1,
             touched: vec![1; nv],
@@ -1013,8 +1023,9 @@ impl<'a> State<'a> {
         near: VertexId,
     ) -> Result<Option<VertexId>, RecoveryError> {
         let inserted = if self.constrained {
-            // Flips made the mesh non-Delaunay: split what the point lies in, then flip.
-            let v = self.ct.insert_splitting(p, near)?;
+            // Flips made the mesh non-Delaunay in places: Bowyer-Watson where the cells are
+            // Delaunay, else split what the point lies in; then flip.
+            let v = self.ct.insert_growing(p, near)?;
             if v.is_some() {
                 let faces = self
                     .ct
@@ -1141,21 +1152,6 @@ impl<'a> State<'a> {
         true
     }
 
-    /// Flips the faces next to the cells the recovery flips made back to the Delaunay property
-    /// where that removes no sub-segment or protected face: points added later then find
-    /// Bowyer–Watson cavities as in a Delaunay mesh.
-    fn delaunay_after_flips(&mut self) {
-        let faces = self.ct.take_flipped_faces();
-        if faces.is_empty() {
-            return;
-        }
-        let locked = &self.locked;
-        let is_locked = |x: VertexId, y: VertexId| locked.contains(&edge_key(x, y));
-        self.ct
-            .make_delaunay_from_locked(faces, |_| true, &is_locked, &mut self.flip_touched);
-        self.note_flips();
-    }
-
     /// Adds the flips of `outcome` to the history; whether the edge or face is present.
     fn count_flips(&self, outcome: FlipIn, history: &mut RecoveryHistory3) -> bool {
         match outcome {
@@ -1243,7 +1239,6 @@ impl<'a> State<'a> {
                         left.push((f, t));
                     }
                 }
-                self.delaunay_after_flips();
                 left
             } else {
                 missing
@@ -1281,7 +1276,6 @@ impl<'a> State<'a> {
                     }
                     self.ct.keep_flips();
                 }
-                self.delaunay_after_flips();
                 left
             } else {
                 missing

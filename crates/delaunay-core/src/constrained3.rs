@@ -45,8 +45,10 @@ pub struct ConstrainedTriangulation3 {
     pub(crate) stars: StarSearch,
     /// The flips made by [`Self::flip_in_edge`] and [`Self::flip_in_face`], to undo them.
     pub(crate) flip_log: Vec<Flip>,
-    /// Cells made by those flips, for the Delaunay flips that follow them.
-    pub(crate) flipped_cells: Vec<CellId>,
+    /// Scratch cells for star searches inside flips.
+    pub(crate) scratch: Vec<CellId>,
+    /// Flips the current flip-in may still make.
+    pub(crate) flip_budget: usize,
 }
 
 impl ConstrainedTriangulation3 {
@@ -59,7 +61,8 @@ impl ConstrainedTriangulation3 {
             tags: vec![0; n],
             stars: StarSearch::default(),
             flip_log: Vec::new(),
-            flipped_cells: Vec::new(),
+            scratch: Vec::new(),
+            flip_budget: 0,
         }
     }
 
@@ -297,11 +300,12 @@ impl ConstrainedTriangulation3 {
     /// it, each in two). Valid in any triangulation, Delaunay or not, since the point sees every
     /// face of those cells that it does not lie on; followed by
     /// [`Self::make_delaunay_from_locked`] from [`Self::last_new_cells`], it gives what
-    /// Bowyer–Watson would in a Delaunay triangulation. A point just beyond the hull (rounded
-    /// off a hull facet) becomes a hull vertex joined to the facets it sees. Protected faces it
-    /// splits are not protected; the others stay. Returns the new vertex, or `None` (nothing
-    /// changed) at an existing vertex. [`Triangulation::last_cavity_vertices`] then holds
-    /// its star's other vertices.
+    /// Bowyer–Watson would in a Delaunay triangulation of points in general position (not
+    /// always where four points around an edge are coplanar: there a flip can stop short). A
+    /// point just beyond the hull (rounded off a hull facet) becomes a hull vertex joined to
+    /// the facets it sees. Protected faces it splits are not protected; the others stay.
+    /// Returns the new vertex, or `None` (nothing changed) at an existing vertex.
+    /// [`Triangulation::last_cavity_vertices`] then holds its star's other vertices.
     ///
     /// # Errors
     /// A non-finite coordinate or one outside the range of the triangulation.
@@ -309,6 +313,31 @@ impl ConstrainedTriangulation3 {
         &mut self,
         point: [f64; 3],
         near: VertexId,
+    ) -> Result<Option<VertexId>, TriangulationError> {
+        self.insert_in(point, near, false)
+    }
+
+    /// [`Self::insert_splitting`], but with the Bowyer–Watson cavity (the cells whose
+    /// circumsphere holds the point, connected to the one containing it, grown until
+    /// star-shaped) where that swallows no vertex: where the cells around the point are
+    /// Delaunay, that is exactly Bowyer–Watson's insertion, degenerate (coplanar, cospherical)
+    /// configurations included; elsewhere, the split.
+    ///
+    /// # Errors
+    /// As [`Self::insert_splitting`].
+    pub fn insert_growing(
+        &mut self,
+        point: [f64; 3],
+        near: VertexId,
+    ) -> Result<Option<VertexId>, TriangulationError> {
+        self.insert_in(point, near, true)
+    }
+
+    fn insert_in(
+        &mut self,
+        point: [f64; 3],
+        near: VertexId,
+        bowyer_watson: bool,
     ) -> Result<Option<VertexId>, TriangulationError> {
         let p = self.tri.scaled_input(point)?;
         let start = if !near.is_ghost() && near.index() < self.tri.num_vertices() {
@@ -325,10 +354,13 @@ impl ConstrainedTriangulation3 {
             // Beyond the hull (a point of a hull facet, rounded outwards).
             self.tri.insert_beyond_hull(p, input, c)
         } else {
-            // No conflict search (every facet is avoided); the growth adds the cells across
-            // the facets the point lies on.
-            self.tri
-                .insert_star_shaped(p, input, &[c], |_| false, |_| true, &[])
+            let tri = &mut self.tri;
+            bowyer_watson
+                .then(|| tri.insert_star_shaped(p, input, &[c], |_| false, |_| false, &[]))
+                .flatten()
+                // No conflict search (every facet is avoided): the growth adds the cells
+                // across the facets the point lies on.
+                .or_else(|| tri.insert_star_shaped(p, input, &[c], |_| false, |_| true, &[]))
         };
         let Some(v) = inserted else {
             return Ok(None);

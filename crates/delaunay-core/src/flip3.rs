@@ -28,6 +28,13 @@ use crate::error::ConstraintError;
 use crate::ids::{CellId, FacetRef, VertexId};
 use delmesh_predicates::{orient3d, Sign};
 
+impl Flips3 {
+    /// Flips made, of every kind.
+    pub fn flips(&self) -> usize {
+        self.two_three + self.three_two + self.four_four
+    }
+}
+
 /// What [`ConstrainedTriangulation3::make_delaunay`] did.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Flips3 {
@@ -37,6 +44,8 @@ pub struct Flips3 {
     pub two_three: usize,
     /// 3-2 flips made.
     pub three_two: usize,
+    /// 4-4 flips made (where the four points around an edge lie in one plane).
+    pub four_four: usize,
     /// The faces still failing the test, which no flip could mend, each once (empty: the
     /// triangulation is constrained Delaunay across every face in scope). Valid until the
     /// triangulation changes.
@@ -149,9 +158,9 @@ impl ConstrainedTriangulation3 {
         let budget = 64 * self.tri.simplices.len() + 1024;
         let mut stuck: Vec<FacetRef> = Vec::new();
         loop {
-            let before = report.two_three + report.three_two;
+            let before = report.flips();
             while let Some(f) = stack.pop() {
-                if report.two_three + report.three_two >= budget {
+                if report.flips() >= budget {
                     stuck.push(f);
                     stuck.append(&mut stack);
                     break;
@@ -173,13 +182,14 @@ impl ConstrainedTriangulation3 {
                         report.three_two += 1;
                         queue(&mut stack, &cells);
                     }
+                    Mend::Replaced(cells) => {
+                        report.four_four += 1;
+                        queue(&mut stack, &cells);
+                    }
                 }
             }
             // A face refused earlier may be flippable now that its surroundings changed.
-            if stuck.is_empty()
-                || report.two_three + report.three_two == before
-                || report.two_three + report.three_two >= budget
-            {
+            if stuck.is_empty() || report.flips() == before || report.flips() >= budget {
                 break;
             }
             stack = std::mem::take(&mut stuck);
@@ -310,7 +320,7 @@ impl ConstrainedTriangulation3 {
             return Mend::TwoThree(self.flip23(c, i, m, j));
         }
         let Some(q) = beyond_one_edge(&sign) else {
-            return Mend::Stuck;
+            return self.mend_through_edge(c, &face, &sign, in_scope, locked);
         };
         let v = self.tri.simplices[c.index()].v;
         if locked(v[face[(q + 1) % 3]], v[face[(q + 2) % 3]]) {
@@ -458,6 +468,65 @@ impl ConstrainedTriangulation3 {
     }
 }
 
+impl ConstrainedTriangulation3 {
+    /// Where the segment joining a failing face's two apexes passes exactly through one of its
+    /// edges (`sign` zero there, positive elsewhere: the four points around that edge lie in
+    /// one plane), the edge-removing flip of that edge when four cells surround it (the 4-4
+    /// flip; [`Self::flip_nm`]), which removes the face; not where a face between two of its
+    /// new cells would fail in turn (the other diagonal is no better: flipping back and forth
+    /// would not end), nor across cells out of scope or of other tags.
+    fn mend_through_edge(
+        &mut self,
+        c: CellId,
+        face: &[usize; 3],
+        sign: &[Sign; 3],
+        in_scope: &impl Fn(u32) -> bool,
+        locked: &impl Fn(VertexId, VertexId) -> bool,
+    ) -> Mend {
+        let zeros = sign.iter().filter(|&&g| g == Sign::Zero).count();
+        let negatives = sign.iter().filter(|&&g| g == Sign::Negative).count();
+        let Some(q) = sign.iter().position(|&g| g == Sign::Zero) else {
+            return Mend::Stuck;
+        };
+        if zeros != 1 || negatives != 0 {
+            return Mend::Stuck;
+        }
+        let v = self.tri.simplices[c.index()].v;
+        let (x, y) = (v[face[(q + 1) % 3]], v[face[(q + 2) % 3]]);
+        let mut ring = Vec::new();
+        if locked(x, y) || !self.edge_ring(x, y, &mut ring) || ring.len() != 4 {
+            return Mend::Stuck;
+        }
+        let tag = self.tags[c.index()];
+        if !in_scope(tag) || ring.iter().any(|r| self.tags[r.0.index()] != tag) {
+            return Mend::Stuck;
+        }
+        match self.flip_nm(x, y, &ring, &[], |this, new| this.inner_faces_pass(new)) {
+            Some((_, _, cells)) => Mend::Replaced(cells),
+            None => Mend::Stuck,
+        }
+    }
+}
+
+impl ConstrainedTriangulation3 {
+    /// Whether every face shared by two of the (finite, positive) cells `new` passes the
+    /// insphere test.
+    fn inner_faces_pass(&self, new: &[[VertexId; 4]]) -> bool {
+        let points = &self.tri.points;
+        new.iter().enumerate().all(|(i, a)| {
+            new[i + 1..].iter().all(|b| {
+                let mut apart = b.iter().filter(|u| !a.contains(u));
+                match (apart.next(), apart.next()) {
+                    (Some(&apex), None) if !apex.is_ghost() && !a.contains(&VertexId::GHOST) => {
+                        D3::insphere_cell(points, a, points[apex.index()]) != Sign::Positive
+                    }
+                    _ => true,
+                }
+            })
+        })
+    }
+}
+
 /// What [`ConstrainedTriangulation3::mend`] did with a face.
 enum Mend {
     /// It passes the test (or is out of scope, protected, or gone).
@@ -468,6 +537,8 @@ enum Mend {
     TwoThree([CellId; 3]),
     /// Flipped 3-2, into these cells.
     ThreeTwo([CellId; 2]),
+    /// Flipped 4-4 (a coplanar configuration), into these cells.
+    Replaced(Vec<CellId>),
 }
 
 /// Where the segment between the apexes of a face passes beyond exactly one edge of it (the

@@ -36,6 +36,12 @@ pub enum FlipIn {
     Stuck(usize),
 }
 
+/// Where a group of flips began (see [`ConstrainedTriangulation3::flip_mark`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FlipMark {
+    log: usize,
+}
+
 /// A flip made, by what it made, so that it can be undone: a 2-3 flip's new edge, a 3-2
 /// flip's new face, or the cells an edge-removing flip replaced and made.
 #[derive(Clone, Debug)]
@@ -75,7 +81,8 @@ impl ConstrainedTriangulation3 {
         max_flips: usize,
         touched: &mut Vec<VertexId>,
     ) -> FlipIn {
-        let start = self.flip_log.len();
+        let start = self.flip_mark();
+        self.flip_budget = max_flips;
         let mut flips = 0;
         let mut star = Vec::new();
         loop {
@@ -106,8 +113,10 @@ impl ConstrainedTriangulation3 {
     }
 
     /// Begins a group of flips that [`Self::undo_flips`] can take back.
-    pub fn flip_mark(&self) -> usize {
-        self.flip_log.len()
+    pub fn flip_mark(&self) -> FlipMark {
+        FlipMark {
+            log: self.flip_log.len(),
+        }
     }
 
     /// Forgets the flips made so far: they can no longer be undone.
@@ -115,22 +124,13 @@ impl ConstrainedTriangulation3 {
         self.flip_log.clear();
     }
 
-    /// The faces of the cells flips made since the last call (some may have been replaced
-    /// since), to start [`Self::make_delaunay_from_locked`] from.
-    pub fn take_flipped_faces(&mut self) -> Vec<FacetRef> {
-        let faces = self
-            .flipped_cells
-            .iter()
-            .flat_map(|&c| (0..4).map(move |i| FacetRef::new(c, i)))
-            .collect();
-        self.flipped_cells.clear();
-        faces
-    }
-
     /// Undoes the flips made since `mark` (from [`Self::flip_mark`]), latest first, and
     /// forgets them; returns [`FlipIn::Stuck`] with their number.
-    pub fn undo_flips(&mut self, mark: usize, touched: &mut Vec<VertexId>) -> FlipIn {
+    pub fn undo_flips(&mut self, mark: FlipMark, touched: &mut Vec<VertexId>) -> FlipIn {
+        let mark = mark.log;
         let n = self.flip_log.len().saturating_sub(mark);
+        // Taking flips back is never limited.
+        self.flip_budget = usize::MAX;
         let mut ring = Vec::new();
         let mut star = Vec::new();
         while self.flip_log.len() > mark {
@@ -197,7 +197,8 @@ impl ConstrainedTriangulation3 {
         max_flips: usize,
         touched: &mut Vec<VertexId>,
     ) -> FlipIn {
-        let start = self.flip_log.len();
+        let start = self.flip_mark();
+        self.flip_budget = max_flips;
         let mut flips = 0;
         let mut star = Vec::new();
         loop {
@@ -345,7 +346,7 @@ impl ConstrainedTriangulation3 {
     /// finite cells, and the segment joining their apexes crosses its interior.
     fn try_flip23(&mut self, c: CellId, i: usize, touched: &mut Vec<VertexId>) -> bool {
         let s = self.tri.simplices[c.index()];
-        if self.is_protected(c, i) || s.v.contains(&VertexId::GHOST) {
+        if self.flip_budget == 0 || self.is_protected(c, i) || s.v.contains(&VertexId::GHOST) {
             return false;
         }
         let across = s.n[i];
@@ -359,8 +360,8 @@ impl ConstrainedTriangulation3 {
         if !valid {
             return false;
         }
-        let cells = self.flip23(c, i, m, j);
-        self.flipped_cells.extend_from_slice(&cells);
+        self.flip_budget -= 1;
+        self.flip23(c, i, m, j);
         self.flip_log.push(Flip::TwoThree([s.v[i], e]));
         touched.extend_from_slice(&s.v);
         touched.push(e);
@@ -444,7 +445,7 @@ impl ConstrainedTriangulation3 {
                     break;
                 }
             }
-            if !reduced || flips > 64 {
+            if !reduced {
                 return flips;
             }
         }
@@ -453,16 +454,18 @@ impl ConstrainedTriangulation3 {
     /// The cells around the edge `p q` in cyclic order, each with its two other vertices
     /// `(w_k, w_k+1)` so that cell `k` shares the face `p q w_k` with cell `k - 1` (on the
     /// hull, one `w` is the ghost vertex); false if `p q` is not an edge.
-    fn edge_ring(
+    pub(crate) fn edge_ring(
         &mut self,
         p: VertexId,
         q: VertexId,
         ring: &mut Vec<(CellId, VertexId, VertexId)>,
     ) -> bool {
         ring.clear();
-        let mut star = Vec::new();
+        let mut star = std::mem::take(&mut self.scratch);
         let tri = &self.tri;
-        let Some(first) = self.stars.find(tri, p, &mut star, |v| v.contains(&q)) else {
+        let found = self.stars.find(tri, p, &mut star, |v| v.contains(&q));
+        self.scratch = star;
+        let Some(first) = found else {
             return false;
         };
         let mut c = first;
@@ -505,7 +508,7 @@ impl ConstrainedTriangulation3 {
     ) -> bool {
         let (c, w0, w1) = ring[0];
         let (m, _, w2) = ring[1];
-        if [w0, w1, w2].iter().any(|w| w.is_ghost()) {
+        if self.flip_budget == 0 || [w0, w1, w2].iter().any(|w| w.is_ghost()) {
             return false;
         }
         let v = self.tri.simplices[c.index()].v;
@@ -526,10 +529,10 @@ impl ConstrainedTriangulation3 {
                 return false;
             }
         }
-        let Some(cells) = self.flip32(c, i, k, m, &|_| true) else {
+        if self.flip32(c, i, k, m, &|_| true).is_none() {
             return false;
-        };
-        self.flipped_cells.extend_from_slice(&cells);
+        }
+        self.flip_budget -= 1;
         self.flip_log.push(Flip::ThreeTwo([w0, w1, w2]));
         touched.extend_from_slice(&[p, q, w0, w1, w2]);
         true
@@ -551,12 +554,37 @@ impl ConstrainedTriangulation3 {
         keep: &[VertexId],
         touched: &mut Vec<VertexId>,
     ) -> bool {
+        if self.flip_budget == 0 {
+            return false;
+        }
+        let Some((old, new, _)) = self.flip_nm(p, q, ring, keep, |_, _| true) else {
+            return false;
+        };
+        self.flip_budget -= 1;
+        self.flip_log.push(Flip::Replaced { old, new });
+        touched.extend_from_slice(&[p, q]);
+        touched.extend(ring.iter().map(|r| r.1));
+        true
+    }
+
+    /// [`Self::try_flip_nm`]'s flip, not logged, made only if `accept` takes the new cells'
+    /// vertices too: the old and new cells' vertices and the new cells, or `None` (nothing
+    /// changed).
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn flip_nm(
+        &mut self,
+        p: VertexId,
+        q: VertexId,
+        ring: &[(CellId, VertexId, VertexId)],
+        keep: &[VertexId],
+        accept: impl Fn(&Self, &[[VertexId; 4]]) -> bool,
+    ) -> Option<(Vec<[VertexId; 4]>, Vec<[VertexId; 4]>, Vec<CellId>)> {
         let n = ring.len();
         for &(c, _, w_next) in ring {
             // The face p q w is the one opposite w_next.
             let v = self.tri.simplices[c.index()].v;
             if self.is_protected(c, local(&v, w_next)) {
-                return false;
+                return None;
             }
         }
         let r: Vec<VertexId> = ring.iter().map(|x| x.1).collect();
@@ -589,7 +617,7 @@ impl ConstrainedTriangulation3 {
             let valid = new
                 .iter()
                 .all(|&m| m.contains(&VertexId::GHOST) || self.orient(m) == Sign::Positive);
-            if !valid {
+            if !valid || !accept(self, &new) {
                 continue;
             }
             let old_cells: Vec<CellId> = ring.iter().map(|x| x.0).collect();
@@ -600,13 +628,9 @@ impl ConstrainedTriangulation3 {
             let Some(cells) = self.replace_cells(&old_cells, &new) else {
                 continue;
             };
-            self.flipped_cells.extend_from_slice(&cells);
-            self.flip_log.push(Flip::Replaced { old, new });
-            touched.extend_from_slice(&[p, q]);
-            touched.extend(r.iter().copied());
-            return true;
+            return Some((old, new, cells));
         }
-        false
+        None
     }
 
     /// Replaces the cells `old` (together a region whose boundary faces are the faces of
@@ -615,7 +639,11 @@ impl ConstrainedTriangulation3 {
     /// another new cell or one of the region's boundary faces. Neighbours, incidence,
     /// protection of the boundary faces and the tag (of `old[0]`) follow. Returns the new
     /// cells, or `None`, changing nothing, if the faces do not match.
-    fn replace_cells(&mut self, old: &[CellId], new: &[[VertexId; 4]]) -> Option<Vec<CellId>> {
+    pub(crate) fn replace_cells(
+        &mut self,
+        old: &[CellId],
+        new: &[[VertexId; 4]],
+    ) -> Option<Vec<CellId>> {
         let sorted = |mut f: [VertexId; 3]| {
             f.sort_unstable();
             f
@@ -639,18 +667,21 @@ impl ConstrainedTriangulation3 {
         }
         let mut links = Vec::with_capacity(4 * new.len());
         let mut used = vec![false; outer.len()];
-        for (a, va) in new.iter().enumerate() {
-            for i in 0..4 {
-                let f = face(va, i);
-                let inner = new.iter().enumerate().find_map(|(b, vb)| {
+        let keys: Vec<[[VertexId; 3]; 4]> = new
+            .iter()
+            .map(|v| [0, 1, 2, 3].map(|i| face(v, i)))
+            .collect();
+        for (a, ka) in keys.iter().enumerate() {
+            for (i, f) in ka.iter().enumerate() {
+                let inner = keys.iter().enumerate().find_map(|(b, kb)| {
                     (b != a)
-                        .then(|| (0..4).find(|&j| face(vb, j) == f).map(|j| (b, j)))
+                        .then(|| kb.iter().position(|g| g == f).map(|j| (b, j)))
                         .flatten()
                 });
                 if let Some((b, j)) = inner {
                     links.push((a, i, Link::Inner(b, j)));
                 } else {
-                    let k = outer.iter().position(|o| o.0 == f)?;
+                    let k = outer.iter().position(|o| o.0 == *f)?;
                     if used[k] {
                         return None;
                     }

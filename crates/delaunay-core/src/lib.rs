@@ -34,7 +34,7 @@ pub use constrained3::{find_face_in, ConstrainedTriangulation3};
 pub use dim::{Dim, D2, D3};
 pub use error::{ConstraintError, TriangulationError, ValidationError};
 pub use flip3::Flips3;
-pub use flip_in3::FlipIn;
+pub use flip_in3::{FlipIn, FlipMark};
 pub use ids::{CellId, FacetRef, VertexId};
 pub use star::StarSearch;
 pub use triangulation::{Insertion, Location, Triangulation};

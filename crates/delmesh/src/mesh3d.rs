@@ -323,6 +323,7 @@ pub fn restore_after_smoothing(
         for round in 0..=MAX_SPLIT_ROUNDS {
             total.two_three += flips.two_three;
             total.three_two += flips.three_two;
+            total.four_four += flips.four_four;
             if flips.left.is_empty() {
                 return Ok(Restoration3::Flips {
                     flips: total,
@@ -462,12 +463,13 @@ impl MeshRun3 {
                 split_edges,
                 surface_points,
             }) => s.push_str(&format!(
-                "delaunay restoration: {} faces failed; {} flips (2-3: {}, 3-2: {}), {} edges \
-                 split ({} on the surface){}\n",
+                "delaunay restoration: {} faces failed; {} flips (2-3: {}, 3-2: {}, 4-4: {}), \
+                 {} edges split ({} on the surface){}\n",
                 f.failing,
-                f.two_three + f.three_two,
+                f.flips(),
                 f.two_three,
                 f.three_two,
+                f.four_four,
                 split_edges,
                 surface_points,
                 if f.left.is_empty() {
@@ -716,11 +718,13 @@ impl MeshRun3 {
                 surface_points,
             }) => format!(
                 "{{\"method\": \"flips\", \"failing\": {}, \"two_three\": {}, \
-                 \"three_two\": {}, \"split_edges\": {split_edges}, \"surface_points\": \
+                 \"three_two\": {}, \"four_four\": {}, \"split_edges\": {split_edges}, \
+                 \"surface_points\": \
                  {surface_points}, \"left\": {}, \"recovery\": null}}",
                 f.failing,
                 f.two_three,
                 f.three_two,
+                f.four_four,
                 f.left.len()
             ),
             Some(Restoration3::Retriangulated { history: h }) => format!(
