@@ -701,6 +701,9 @@ impl BoundaryRecovery3 {
 /// splits; finer, it gives up and the conforming recovery runs instead.
 const CONSTRAINED_FINEST: f64 = 1.0 / 1024.0;
 
+/// Face rounds in a row with more missing faces after which the constrained attempt stops.
+const CONSTRAINED_GROWING_ROUNDS: usize = 3;
+
 /// Flips tried for one missing edge or face before a point is added instead.
 const MAX_FLIPS: usize = 32;
 
@@ -1220,6 +1223,8 @@ impl<'a> State<'a> {
 
     /// Edge and face checking until every sub-face is present.
     fn recover(&mut self, history: &mut RecoveryHistory3) -> Result<(), RecoveryError> {
+        // Face rounds in a row that ended with more missing faces than the one before.
+        let (mut growing, mut last_missing) = (0, usize::MAX);
         loop {
             self.recover_edges(history)?;
             let missing = self.check_faces();
@@ -1230,6 +1235,18 @@ impl<'a> State<'a> {
             });
             if missing.is_empty() {
                 return Ok(());
+            }
+            // After flips, the points put into missing faces are not bound to end as
+            // Delaunay ones are: where the missing faces keep multiplying, the constrained
+            // attempt stops early rather than at its point budget.
+            growing = if missing.len() > last_missing {
+                growing + 1
+            } else {
+                0
+            };
+            last_missing = missing.len();
+            if self.constrained && growing >= CONSTRAINED_GROWING_ROUNDS {
+                return Err(self.not_recovered(missing.iter().map(|m| m.0).collect()));
             }
             let missing = if self.constrained {
                 self.protect_present_subfaces();
@@ -1610,46 +1627,64 @@ impl<'a> State<'a> {
                 continue;
             }
             let mut subfaces = std::mem::take(&mut self.facs[f].subfaces);
-            let mut changed = true;
-            while changed {
-                changed = false;
-                'pairs: for i in 0..subfaces.len() {
-                    let t = subfaces[i];
-                    for e in 0..3 {
-                        let (u, w, x) = (t[e], t[(e + 1) % 3], t[(e + 2) % 3]);
-                        let Some(j) = (0..subfaces.len()).find(|&j| {
-                            j != i
-                                && (0..3)
-                                    .any(|m| subfaces[j][m] == w && subfaces[j][(m + 1) % 3] == u)
-                        }) else {
-                            continue;
-                        };
-                        let o = subfaces[j];
-                        let m = (0..3).find(|&m| o[m] == w).unwrap_or(0);
-                        let y = o[(m + 2) % 3];
-                        if self.on_one_edge(f, [u, y, x]) || self.on_one_edge(f, [y, w, x]) {
-                            continue;
-                        }
-                        if !is_tetrahedron(
+            let on_edges = self.boundary_edges_at(f);
+            // The sub-faces by their directed edges; a pair shares an edge run both ways.
+            let mut by_edge: HashMap<(VertexId, VertexId), usize> = HashMap::new();
+            for (k, t) in subfaces.iter().enumerate() {
+                for e in 0..3 {
+                    by_edge.insert((t[e], t[(e + 1) % 3]), k);
+                }
+            }
+            // Each swap puts its tetrahedron outside for good, so they end; the bound only
+            // guards against a bug.
+            let mut stack: Vec<usize> = (0..subfaces.len()).collect();
+            let mut budget = 8 * subfaces.len();
+            while let Some(i) = stack.pop() {
+                let t = subfaces[i];
+                for e in 0..3 {
+                    let (u, w, x) = (t[e], t[(e + 1) % 3], t[(e + 2) % 3]);
+                    let Some(&j) = by_edge.get(&(w, u)) else {
+                        continue;
+                    };
+                    let o = subfaces[j];
+                    let m = (0..3).find(|&m| o[m] == w).unwrap_or(0);
+                    let y = o[(m + 2) % 3];
+                    if j == i
+                        || on_one_edge(&on_edges, [u, y, x])
+                        || on_one_edge(&on_edges, [y, w, x])
+                        || !is_tetrahedron(
                             &mut self.stars,
                             self.ct.triangulation(),
                             [u, w, x, y],
                             &mut star,
-                        ) {
-                            continue;
+                        )
+                    {
+                        continue;
+                    }
+                    // y is on the side of (u, w, x)'s normal (the facet's) when positive.
+                    let p = [u, w, x, y].map(|z| self.ct.triangulation().vertex(z));
+                    let above = orient3d(p[0], p[1], p[2], p[3]) == Sign::Positive;
+                    let inside = if above { s > 0.0 } else { s < 0.0 };
+                    if inside && budget > 0 {
+                        budget -= 1;
+                        for k in [i, j] {
+                            let t = subfaces[k];
+                            for e in 0..3 {
+                                by_edge.remove(&(t[e], t[(e + 1) % 3]));
+                            }
                         }
-                        // y is on the side of (u, w, x)'s normal (the facet's) when positive.
-                        let p = [u, w, x, y].map(|z| self.ct.triangulation().vertex(z));
-                        let above = orient3d(p[0], p[1], p[2], p[3]) == Sign::Positive;
-                        let inside = if above { s > 0.0 } else { s < 0.0 };
-                        if inside {
-                            subfaces[i] = [u, y, x];
-                            subfaces[j] = [y, w, x];
-                            self.facs[f].complete_at = 0;
-                            moved += 1;
-                            changed = true;
-                            break 'pairs;
+                        subfaces[i] = [u, y, x];
+                        subfaces[j] = [y, w, x];
+                        for k in [i, j] {
+                            let t = subfaces[k];
+                            for e in 0..3 {
+                                by_edge.insert((t[e], t[(e + 1) % 3]), k);
+                            }
                         }
+                        stack.extend([i, j]);
+                        self.facs[f].complete_at = 0;
+                        moved += 1;
+                        break;
                     }
                 }
             }
@@ -1670,50 +1705,66 @@ impl<'a> State<'a> {
         star: &mut Vec<CellId>,
     ) {
         let coords = self.facet_frame_coords(f);
-        let mut i = 0;
-        while i < absent.len() {
-            let t = subfaces[absent[i]];
-            let mut flipped = false;
-            'edges: for e in 0..3 {
-                let (u, w, x) = (t[e], t[(e + 1) % 3], t[(e + 2) % 3]);
-                for j in 0..absent.len() {
-                    if j == i {
-                        continue;
-                    }
-                    let s = subfaces[absent[j]];
-                    // The neighbour across u→w runs w→u.
-                    let Some(pos) = (0..3).find(|&m| s[m] == w && s[(m + 1) % 3] == u) else {
-                        continue;
-                    };
-                    let y = s[(pos + 2) % 3];
-                    if self.on_one_edge(f, [u, y, x]) || self.on_one_edge(f, [y, w, x]) {
-                        continue;
-                    }
-                    let (cu, cw, cx, cy) = (coords[&u], coords[&w], coords[&x], coords[&y]);
-                    if orient2d(cu, cy, cx) != Sign::Positive
-                        || orient2d(cy, cw, cx) != Sign::Positive
-                    {
-                        continue;
-                    }
-                    self.stars.star(self.ct.triangulation(), x, star);
-                    if find_face_in(self.ct.triangulation(), star, u, y, x).is_some()
-                        && find_face_in(self.ct.triangulation(), star, y, w, x).is_some()
-                    {
-                        let (ti, tj) = (absent[i], absent[j]);
-                        subfaces[ti] = [u, y, x];
-                        subfaces[tj] = [y, w, x];
-                        absent.retain(|&k| k != ti && k != tj);
-                        flipped = true;
-                        break 'edges;
-                    }
-                }
-            }
-            if !flipped {
-                i += 1;
-            } else {
-                i = 0;
+        let on_edges = self.boundary_edges_at(f);
+        // The missing sub-faces by their directed edges: a pair shares an edge run both ways.
+        let mut by_edge: HashMap<(VertexId, VertexId), usize> = HashMap::new();
+        for &k in absent.iter() {
+            let t = subfaces[k];
+            for e in 0..3 {
+                by_edge.insert((t[e], t[(e + 1) % 3]), k);
             }
         }
+        let mut found = vec![false; subfaces.len()];
+        for &ti in absent.iter() {
+            if found[ti] {
+                continue;
+            }
+            let t = subfaces[ti];
+            for e in 0..3 {
+                let (u, w, x) = (t[e], t[(e + 1) % 3], t[(e + 2) % 3]);
+                let Some(&tj) = by_edge.get(&(w, u)) else {
+                    continue;
+                };
+                if tj == ti || found[tj] {
+                    continue;
+                }
+                let s = subfaces[tj];
+                let Some(pos) = (0..3).find(|&m| s[m] == w && s[(m + 1) % 3] == u) else {
+                    continue;
+                };
+                let y = s[(pos + 2) % 3];
+                if on_one_edge(&on_edges, [u, y, x]) || on_one_edge(&on_edges, [y, w, x]) {
+                    continue;
+                }
+                let (cu, cw, cx, cy) = (coords[&u], coords[&w], coords[&x], coords[&y]);
+                if orient2d(cu, cy, cx) != Sign::Positive || orient2d(cy, cw, cx) != Sign::Positive
+                {
+                    continue;
+                }
+                self.stars.star(self.ct.triangulation(), x, star);
+                if find_face_in(self.ct.triangulation(), star, u, y, x).is_some()
+                    && find_face_in(self.ct.triangulation(), star, y, w, x).is_some()
+                {
+                    subfaces[ti] = [u, y, x];
+                    subfaces[tj] = [y, w, x];
+                    (found[ti], found[tj]) = (true, true);
+                    break;
+                }
+            }
+        }
+        absent.retain(|&k| !found[k]);
+    }
+
+    /// For each vertex on facet `f`'s boundary, the facet edges (indices into its `segs`) it
+    /// lies on: one, or two at a corner (more where a merged facet's loops touch).
+    fn boundary_edges_at(&self, f: usize) -> HashMap<VertexId, Vec<u32>> {
+        let mut on_edges: HashMap<VertexId, Vec<u32>> = HashMap::new();
+        for (k, &(s, _)) in self.facs[f].segs.iter().enumerate() {
+            for p in &self.segs[s as usize].pts {
+                on_edges.entry(p.1).or_default().push(k as u32);
+            }
+        }
+        on_edges
     }
 
     /// 2D coordinates in facet `f`'s plane of its vertices.
@@ -1814,16 +1865,6 @@ impl<'a> State<'a> {
         out
     }
 
-    /// Whether the three corners of `t` lie on one edge of facet `f` (its segment's points):
-    /// such a triangle has no area, though a point rounded off the edge's line can make it
-    /// look positive in the facet's frame.
-    fn on_one_edge(&self, f: usize, t: [VertexId; 3]) -> bool {
-        self.facs[f].segs.iter().any(|&(s, _)| {
-            let pts = &self.segs[s as usize].pts;
-            t.iter().all(|v| pts.iter().any(|p| p.1 == *v))
-        })
-    }
-
     /// Inserts the centroid of the missing sub-face `t` of facet `f` (true), or splits the
     /// sub-segment of the facet's boundary that `t` encroaches (false): see
     /// [`State::encroached_subsegment`].
@@ -1917,6 +1958,16 @@ impl<'a> State<'a> {
         }
         unreachable!("a position on the facet's boundary loop")
     }
+}
+
+/// Whether the three corners of `t` lie on one edge of a facet (`on_edges`: its
+/// [`State::boundary_edges_at`]): such a triangle has no area, though a point rounded off the edge's
+/// line can make it look positive in the facet's frame.
+fn on_one_edge(on_edges: &HashMap<VertexId, Vec<u32>>, t: [VertexId; 3]) -> bool {
+    let edges = |v: VertexId| on_edges.get(&v).map_or(&[][..], |e| &e[..]);
+    edges(t[0])
+        .iter()
+        .any(|k| edges(t[1]).contains(k) && edges(t[2]).contains(k))
 }
 
 /// A point of the facet frame from barycentric coordinates.
