@@ -5,7 +5,8 @@ use std::collections::HashMap;
 
 use crate::classify::OUTSIDE;
 use crate::recovery3::{BoundaryFace, Mesh3};
-use delmesh_delaunay_core::{CellId, TriangulationError, VertexId};
+use delmesh_delaunay_core::{CellId, FacetRef, TriangulationError, VertexId};
+use delmesh_predicates::{orient3d, Sign};
 
 /// Where each boundary face of a [`Mesh3`] is in [`Mesh3::faces`], by its sorted corners: for
 /// [`Mesh3::split_edge`], which keeps it up to date.
@@ -140,6 +141,139 @@ impl Mesh3 {
             self.faces.push(BoundaryFace { v: [v, u2, o], ..f });
         }
         Ok(Some(v))
+    }
+
+    /// Takes out of the domain every element that lies flat on the surface, and returns how
+    /// many: two of its faces are boundary faces of one input facet with the exterior beyond
+    /// both, so its four corners lie in that facet's plane (to the rounding of points added
+    /// on it; its volume is at most 2^-30 of its longest edge cubed), and the quadrilateral
+    /// they make is convex (exact orientations about the facet's normal). Its two other faces
+    /// become the boundary faces there: the facet's diagonal is swapped, the facet covered as
+    /// before. Splits of surface edges (recovery, restoration) leave such elements, with
+    /// dihedral angles of 0° and 180°, that no move of interior points mends. Faces between
+    /// two regions are left alone.
+    pub fn remove_flat_surface_elements(&mut self) -> usize {
+        // Elements with two protected faces, the only ones that can be; an element taken out
+        // makes its neighbours across its two other faces candidates.
+        let two_protected = |mesh: &Self, c: CellId| {
+            mesh.ct.tag(c) != OUTSIDE && (0..4).filter(|&k| mesh.ct.is_protected(c, k)).count() == 2
+        };
+        let mut todo: Vec<CellId> = self
+            .elements()
+            .filter(|&c| two_protected(self, c))
+            .collect();
+        if todo.is_empty() {
+            return 0;
+        }
+        let mut index = self.face_index();
+        let mut removed = 0;
+        while let Some(c) = todo.pop() {
+            if !two_protected(self, c) || !self.remove_if_flat(c, &mut index) {
+                continue;
+            }
+            removed += 1;
+            let tri = self.ct.triangulation();
+            for k in 0..4 {
+                if let Some(n) = tri.neighbor(c, k) {
+                    if two_protected(self, n) {
+                        todo.push(n);
+                    }
+                }
+            }
+        }
+        removed
+    }
+
+    /// [`Self::remove_flat_surface_elements`] for the element `c`.
+    fn remove_if_flat(&mut self, c: CellId, index: &mut FaceIndex) -> bool {
+        let tri = self.ct.triangulation();
+        let corners = tri.cell(c);
+        let v = [corners[0], corners[1], corners[2], corners[3]];
+        // Local indices of the faces on the exterior; the others must be interior faces.
+        let mut out = Vec::with_capacity(4);
+        for k in 0..4 {
+            let beyond = tri.neighbor(c, k).filter(|&n| self.ct.tag(n) != OUTSIDE);
+            match (self.ct.is_protected(c, k), beyond) {
+                (true, None) => out.push(k),
+                (false, Some(_)) => {}
+                _ => return false,
+            }
+        }
+        let [i, j] = out[..] else {
+            return false;
+        };
+        let face = |k: usize| sorted([v[(k + 1) % 4], v[(k + 2) % 4], v[(k + 3) % 4]]);
+        let (Some(&f1), Some(&f2)) = (index.0.get(&face(i)), index.0.get(&face(j))) else {
+            return false;
+        };
+        if self.faces[f1].facet != self.faces[f2].facet {
+            return false;
+        }
+        // Face f1 holds v[j] (its corner off the shared edge), f2 holds v[i]. Rotate f1 to
+        // (a, b, c) with c = v[j]: the shared edge runs a → b in it and b → a in f2.
+        let (c_, d_) = (v[j], v[i]);
+        let t1 = self.faces[f1].v;
+        let r = (0..3)
+            .find(|&m| t1[m] == c_)
+            .expect("v[j] is a corner of its face");
+        let (a, b) = (t1[(r + 1) % 3], t1[(r + 2) % 3]);
+        let t2 = self.faces[f2].v;
+        let consistent = (0..3).any(|m| t2[m] == b && t2[(m + 1) % 3] == a);
+        if !consistent {
+            return false;
+        }
+        let p = |u: VertexId| tri.vertex(u);
+        let (pa, pb, pc, pd) = (p(a), p(b), p(c_), p(d_));
+        let sub = |x: [f64; 3], y: [f64; 3]| [x[0] - y[0], x[1] - y[1], x[2] - y[2]];
+        let cross = |x: [f64; 3], y: [f64; 3]| {
+            [
+                x[1] * y[2] - x[2] * y[1],
+                x[2] * y[0] - x[0] * y[2],
+                x[0] * y[1] - x[1] * y[0],
+            ]
+        };
+        let dot = |x: [f64; 3], y: [f64; 3]| x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+        let longest = [(pa, pb), (pa, pc), (pa, pd), (pb, pc), (pb, pd), (pc, pd)]
+            .iter()
+            .map(|&(x, y)| dot(sub(x, y), sub(x, y)))
+            .fold(0.0f64, f64::max)
+            .sqrt();
+        let volume = dot(cross(sub(pb, pa), sub(pc, pa)), sub(pd, pa)).abs() / 6.0;
+        // (A NaN volume is not flat.)
+        let flat = volume <= longest.powi(3) * 2f64.powi(-30);
+        if !flat {
+            return false;
+        }
+        // An apex off the facet on its normal's side: the four triangles (old and new) must
+        // all turn the same way about it, so the quadrilateral a d b c is convex.
+        let n = cross(sub(pb, pa), sub(pc, pa));
+        let scale = longest / dot(n, n).sqrt();
+        let apex = [0, 1, 2].map(|k| 0.25 * (pa[k] + pb[k] + pc[k] + pd[k]) + n[k] * scale);
+        if !(scale.is_finite() && apex.iter().all(|x| x.is_finite())) {
+            return false;
+        }
+        let new1 = [a, d_, c_];
+        let new2 = [d_, b, c_];
+        let turn = |t: [VertexId; 3]| orient3d(p(t[0]), p(t[1]), p(t[2]), apex);
+        let s = turn([a, b, c_]);
+        if s == Sign::Zero || turn([b, a, d_]) != s || turn(new1) != s || turn(new2) != s {
+            return false;
+        }
+        // The new boundary faces are the faces of c opposite b and a.
+        let at = |u: VertexId| (0..4).find(|&m| v[m] == u).expect("a corner of c");
+        let (ka, kb) = (at(a), at(b));
+        self.ct.set_tag(c, OUTSIDE);
+        self.ct.unprotect(FacetRef::new(c, i));
+        self.ct.unprotect(FacetRef::new(c, j));
+        self.ct.protect(FacetRef::new(c, kb));
+        self.ct.protect(FacetRef::new(c, ka));
+        index.0.remove(&sorted(t1));
+        index.0.remove(&sorted(t2));
+        self.faces[f1].v = new1;
+        self.faces[f2].v = new2;
+        index.0.insert(sorted(new1), f1);
+        index.0.insert(sorted(new2), f2);
+        true
     }
 
     /// The mesh as flat arrays (see [`MeshArrays3`]).

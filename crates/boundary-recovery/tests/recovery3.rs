@@ -6,6 +6,7 @@ use delmesh_boundary_recovery::{
     tet_volume, BoundaryRecovery3, Mesh3, Plc3, RecoveryError, RecoveryMethod3, RecoveryStep,
     SurfaceTriangle,
 };
+use delmesh_delaunay_core::{FlipIn, VertexId};
 use delmesh_predicates::{orient3d, Sign};
 use proptest::prelude::*;
 use rand::{rngs::StdRng, Rng, SeedableRng};
@@ -842,5 +843,123 @@ proptest! {
         let field: Vec<[f64; 3]> =
             (0..60 * n).map(|_| [0, 1, 2].map(|_| rng.gen_range(0.0..2.0))).collect();
         both_recoveries(&plc, 8.0 - vs, &field);
+    }
+}
+
+/// The pyramid of [`an_element_lying_flat_on_a_facet_is_taken_out`] (points `p q r s` and
+/// apex `e`, its triangles), recovered, then the edge `r s` flipped in: the flat element
+/// `p q r s` lies on the two base triangles, of one facet (`one_facet`) or of two.
+fn pyramid_with_a_flat_element(one_facet: bool) -> (Mesh3, [[f64; 3]; 5], [[u32; 3]; 6]) {
+    let points = [
+        [1.0, -0.5, 0.0],
+        [1.0, 0.5, 0.0],
+        [0.0, 0.0, 0.0],
+        [2.0, 0.0, 1e-12],
+        [1.0, 0.0, 3.0],
+    ];
+    let tris = [
+        [0, 2, 1],
+        [1, 3, 0],
+        [2, 0, 4],
+        [1, 2, 4],
+        [3, 1, 4],
+        [0, 3, 4],
+    ];
+    let plc = Plc3 {
+        points: points.to_vec(),
+        triangles: tris
+            .iter()
+            .enumerate()
+            .map(|(k, &v)| SurfaceTriangle {
+                v,
+                marker: 1,
+                facet: if one_facet { k.saturating_sub(1) } else { k } as u32,
+            })
+            .collect(),
+        ..Plc3::default()
+    };
+    let mut mesh = BoundaryRecovery3::new(RecoveryMethod3::Conforming)
+        .run(&plc)
+        .expect("recovered");
+    assert_eq!(mesh.history.points_added(), 0);
+    assert_eq!(flat_elements(&mesh), 0);
+    let v = |i: usize| mesh.ct.triangulation().vertex_of_input(i);
+    let (r, s) = (v(2), v(3));
+    let made = mesh
+        .ct
+        .flip_in_edge(r, s, &|_: VertexId, _: VertexId| false, 4, &mut Vec::new());
+    assert_eq!(made, FlipIn::Present(1), "one 2-3 flip");
+    assert_eq!(flat_elements(&mesh), 1, "the flip made the flat element");
+    assert_eq!(mesh.num_elements(), 3);
+    (mesh, points, tris)
+}
+
+/// Elements of volume under 10^-9 (the flat one of [`pyramid_with_a_flat_element`]).
+fn flat_elements(mesh: &Mesh3) -> usize {
+    let tri = mesh.ct.triangulation();
+    mesh.elements()
+        .filter(|&c| {
+            let v = tri.cell(c);
+            let p = [0, 1, 2, 3].map(|k| tri.vertex(v[k]));
+            tet_volume(p[0], p[1], p[2], p[3]).abs() < 1e-9
+        })
+        .count()
+}
+
+/// A pyramid whose base is one facet of two triangles on the diagonal `p q`, `s` lifted
+/// 10^-12 off the plane: after recovery, a 2-3 flip making the edge `r s` (as Delaunay
+/// restoration flips near the surface do) leaves the flat element `p q r s` lying on both base
+/// triangles. Taking it out swaps the base's diagonal, keeps the volume and covers the base as
+/// before. Where the two triangles are two facets, it stays (the surface would move).
+#[test]
+fn an_element_lying_flat_on_a_facet_is_taken_out() {
+    let (mut two, _, _) = pyramid_with_a_flat_element(false);
+    assert_eq!(two.remove_flat_surface_elements(), 0);
+    let (mut mesh, points, tris) = pyramid_with_a_flat_element(true);
+    let volume = enclosed_volume(&points, &tris);
+    assert_eq!(mesh.remove_flat_surface_elements(), 1);
+    assert_eq!(flat_elements(&mesh), 0);
+    assert_eq!(mesh.num_elements(), 2);
+    assert!((mesh.volume() - volume).abs() <= 1e-12 * volume);
+    // The base is now the triangles on the diagonal r s, oriented as the input's (outward),
+    // and every boundary face is a face of an element, with the element on its inner side.
+    let mut base: Vec<[u32; 3]> = mesh
+        .faces
+        .iter()
+        .filter(|f| f.facet == 0)
+        .map(|f| {
+            let mut v = f.v.map(|u| mesh.ct.triangulation().input_index(u) as u32);
+            let first = (0..3).min_by_key(|&k| v[k]).unwrap_or(0);
+            v.rotate_left(first);
+            v
+        })
+        .collect();
+    base.sort_unstable();
+    assert_eq!(base, vec![[0, 2, 3], [1, 3, 2]]);
+    // The protected faces are the boundary faces.
+    let sorted = |mut v: [VertexId; 3]| {
+        v.sort_unstable();
+        v
+    };
+    let mut protected: Vec<_> = mesh.ct.protected_faces().into_iter().map(sorted).collect();
+    let mut faces: Vec<_> = mesh.faces.iter().map(|f| sorted(f.v)).collect();
+    protected.sort_unstable();
+    faces.sort_unstable();
+    assert_eq!(protected, faces);
+    let tri = mesh.ct.triangulation();
+    for f in &mesh.faces {
+        let p = f.v.map(|u| tri.vertex(u));
+        let inner = mesh.elements().find_map(|c| {
+            let v = tri.cell(c);
+            let d = v.iter().find(|u| !f.v.contains(u))?;
+            (v.iter().filter(|u| f.v.contains(u)).count() == 3).then_some(*d)
+        });
+        let d = inner.expect("a boundary face is a face of an element");
+        assert_eq!(
+            orient3d(p[0], p[1], p[2], tri.vertex(d)),
+            Sign::Negative,
+            "the element is on the inner side of {:?}",
+            f.v
+        );
     }
 }

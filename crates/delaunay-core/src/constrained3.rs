@@ -130,6 +130,13 @@ impl ConstrainedTriangulation3 {
         self.protected[twin.cell().index()] |= 1 << twin.facet();
     }
 
+    /// Unprotects the facet `f` and its twin.
+    pub fn unprotect(&mut self, f: FacetRef) {
+        let twin = self.tri.simplices[f.cell().index()].n[f.facet()];
+        self.protected[f.cell().index()] &= !(1 << f.facet());
+        self.protected[twin.cell().index()] &= !(1 << twin.facet());
+    }
+
     /// The protected faces, each once, as vertex triples (counter-clockwise seen from the cell
     /// that reports it).
     pub fn protected_faces(&self) -> Vec<[VertexId; 3]> {

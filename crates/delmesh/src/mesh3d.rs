@@ -115,6 +115,9 @@ pub struct MeshRun3 {
     pub restoration: Option<Restoration3>,
     /// Points added by quality refinement.
     pub refined: usize,
+    /// Elements lying flat on the surface taken out after the restoration
+    /// ([`Mesh3::remove_flat_surface_elements`]).
+    pub flat_removed: usize,
     /// What smoothing did, if it ran.
     pub smoothing: Option<SmoothStats>,
     /// Quality before smoothing (after point generation), if smoothing ran.
@@ -202,7 +205,9 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
     } else {
         (measure_before(), None)
     };
+    let mut flat_removed = 0;
     if restoration.is_some() {
+        flat_removed = mesh.remove_flat_surface_elements();
         arrays = mesh.to_arrays();
         lap("delaunay restoration", &mut timings);
     } else if quality_before_smoothing.is_some() {
@@ -217,6 +222,7 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
         generation,
         restoration,
         refined,
+        flat_removed,
         smoothing,
         quality_before_smoothing,
         quality,
@@ -490,6 +496,12 @@ impl MeshRun3 {
             )),
             None => {}
         }
+        if self.flat_removed > 0 {
+            s.push_str(&format!(
+                "flat elements on the surface taken out (facet diagonal swapped): {}\n",
+                self.flat_removed
+            ));
+        }
         if let (Some(st), Some(q)) = (&self.smoothing, &self.quality_before_smoothing) {
             s.push_str(&format!(
                 "smoothing: {st}\n  before: min dihedral {:.2}°, max {:.2}°, {} slivers under 5°\n",
@@ -740,11 +752,12 @@ impl MeshRun3 {
             .collect::<Vec<_>>()
             .join(", ");
         format!(
-            "{{\n  \"points\": {},\n  \"tetrahedra\": {},\n  \"boundary_triangles\": {},\n  \"recovery\": {},\n  \"generation\": {generation},\n  \"restoration\": {restoration},\n  \"quality_before_smoothing\": {},\n  \"quality\": {},\n  \"seconds\": {{{timings}}}\n}}\n",
+            "{{\n  \"points\": {},\n  \"tetrahedra\": {},\n  \"boundary_triangles\": {},\n  \"recovery\": {},\n  \"generation\": {generation},\n  \"restoration\": {restoration},\n  \"flat_removed\": {},\n  \"quality_before_smoothing\": {},\n  \"quality\": {},\n  \"seconds\": {{{timings}}}\n}}\n",
             self.arrays.coords.len(),
             self.arrays.tets.len(),
             self.arrays.faces.len(),
             history(&self.recovery),
+            self.flat_removed,
             self.quality_before_smoothing
                 .as_ref()
                 .map_or("null".to_string(), QualityReport3::to_json),
