@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 
 use crate::classify::OUTSIDE;
-use crate::recovery3::{BoundaryFace, Mesh3};
+use crate::recovery3::{cross, dot, sub, BoundaryFace, Mesh3};
 use delmesh_delaunay_core::{CellId, FacetRef, TriangulationError, VertexId};
 use delmesh_predicates::{orient3d, Sign};
 
@@ -224,15 +224,6 @@ impl Mesh3 {
         }
         let p = |u: VertexId| tri.vertex(u);
         let (pa, pb, pc, pd) = (p(a), p(b), p(c_), p(d_));
-        let sub = |x: [f64; 3], y: [f64; 3]| [x[0] - y[0], x[1] - y[1], x[2] - y[2]];
-        let cross = |x: [f64; 3], y: [f64; 3]| {
-            [
-                x[1] * y[2] - x[2] * y[1],
-                x[2] * y[0] - x[0] * y[2],
-                x[0] * y[1] - x[1] * y[0],
-            ]
-        };
-        let dot = |x: [f64; 3], y: [f64; 3]| x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
         let longest = [(pa, pb), (pa, pc), (pa, pd), (pb, pc), (pb, pd), (pc, pd)]
             .iter()
             .map(|&(x, y)| dot(sub(x, y), sub(x, y)))

@@ -48,10 +48,10 @@
 //! removes no sub-segment ([`ConstrainedTriangulation3::insert_growing`]). Most surfaces then need far fewer points
 //! (a CAD surface of long thin triangles: tens instead of thousands), and the mesh is not
 //! Delaunay next to what was flipped in. Splitting after flips is not bound to end as the
-//! Delaunay splitting is: where a sub-segment would get shorter than 1/1024 of its segment or
-//! more points than 4 per surface point (plus 1,000) are added, the conforming recovery runs
-//! instead, from the same first tetrahedralisation
-//! ([`RecoveryHistory3::constrained_fallback`]).
+//! Delaunay splitting is: where a sub-segment would get shorter than 1/1024 of its segment,
+//! more points than 4 per surface point (plus 1,000) are added, or three face rounds in a row
+//! each leave more faces missing, the conforming recovery runs instead, from the same first
+//! tetrahedralisation ([`RecoveryHistory3::constrained_fallback`]).
 //!
 //! The recovered faces are then protected ([`ConstrainedTriangulation3`]) and the cells are
 //! classified by the flood fill of [`crate::classify3`].
@@ -83,8 +83,10 @@ pub enum RecoveryMethod3 {
     APriori,
     /// Beyond the paper: missing edges and faces are first recovered by flips, which add no
     /// point (a constrained, not conforming, recovery: the mesh is not Delaunay next to
-    /// them); a point is added only where the flips stop short. If that does not finish within
-    /// the bound of added points, the conforming method runs instead.
+    /// them); a point is added only where the flips stop short. If that does not finish (a
+    /// sub-segment under 1/1024 of its edge, more than 4 points per surface point plus 1,000,
+    /// or three face rounds in a row each leaving more faces missing), the conforming method
+    /// runs instead.
     Constrained,
 }
 
@@ -161,8 +163,8 @@ pub struct RecoveryHistory3 {
     pub flips: usize,
     /// Edges and faces recovered by flips alone (Constrained only).
     pub flipped_in: usize,
-    /// The constrained recovery did not finish within the bound of added points, and the
-    /// conforming one ran instead (its passes and points are the ones reported).
+    /// The constrained recovery did not finish (see [`RecoveryMethod3::Constrained`]), and
+    /// the conforming one ran instead (its passes and points are the ones reported).
     pub constrained_fallback: bool,
     /// Tetrahedra outside the domain (and in holes) after classification.
     pub tetrahedra_outside: usize,
@@ -1630,10 +1632,8 @@ impl<'a> State<'a> {
             let on_edges = self.boundary_edges_at(f);
             // The sub-faces by their directed edges; a pair shares an edge run both ways.
             let mut by_edge: HashMap<(VertexId, VertexId), usize> = HashMap::new();
-            for (k, t) in subfaces.iter().enumerate() {
-                for e in 0..3 {
-                    by_edge.insert((t[e], t[(e + 1) % 3]), k);
-                }
+            for (k, &t) in subfaces.iter().enumerate() {
+                by_edge.extend(directed_edges(t).map(|e| (e, k)));
             }
             // Each swap puts its tetrahedron outside for good, so they end; the bound only
             // guards against a bug.
@@ -1668,18 +1668,14 @@ impl<'a> State<'a> {
                     if inside && budget > 0 {
                         budget -= 1;
                         for k in [i, j] {
-                            let t = subfaces[k];
-                            for e in 0..3 {
-                                by_edge.remove(&(t[e], t[(e + 1) % 3]));
+                            for e in directed_edges(subfaces[k]) {
+                                by_edge.remove(&e);
                             }
                         }
                         subfaces[i] = [u, y, x];
                         subfaces[j] = [y, w, x];
                         for k in [i, j] {
-                            let t = subfaces[k];
-                            for e in 0..3 {
-                                by_edge.insert((t[e], t[(e + 1) % 3]), k);
-                            }
+                            by_edge.extend(directed_edges(subfaces[k]).map(|e| (e, k)));
                         }
                         stack.extend([i, j]);
                         self.facs[f].complete_at = 0;
@@ -1709,10 +1705,7 @@ impl<'a> State<'a> {
         // The missing sub-faces by their directed edges: a pair shares an edge run both ways.
         let mut by_edge: HashMap<(VertexId, VertexId), usize> = HashMap::new();
         for &k in absent.iter() {
-            let t = subfaces[k];
-            for e in 0..3 {
-                by_edge.insert((t[e], t[(e + 1) % 3]), k);
-            }
+            by_edge.extend(directed_edges(subfaces[k]).map(|e| (e, k)));
         }
         let mut found = vec![false; subfaces.len()];
         for &ti in absent.iter() {
@@ -1728,11 +1721,9 @@ impl<'a> State<'a> {
                 if tj == ti || found[tj] {
                     continue;
                 }
+                // The neighbour runs w → u: its third corner follows u.
                 let s = subfaces[tj];
-                let Some(pos) = (0..3).find(|&m| s[m] == w && s[(m + 1) % 3] == u) else {
-                    continue;
-                };
-                let y = s[(pos + 2) % 3];
+                let y = s[((0..3).find(|&m| s[m] == u).unwrap_or(0) + 1) % 3];
                 if on_one_edge(&on_edges, [u, y, x]) || on_one_edge(&on_edges, [y, w, x]) {
                     continue;
                 }
@@ -1958,6 +1949,12 @@ impl<'a> State<'a> {
         }
         unreachable!("a position on the facet's boundary loop")
     }
+}
+
+/// The directed edges of the triangle `t`, in its orientation: two triangles on one side of
+/// a surface share an edge run both ways.
+fn directed_edges(t: [VertexId; 3]) -> [(VertexId, VertexId); 3] {
+    [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]
 }
 
 /// Whether the three corners of `t` lie on one edge of a facet (`on_edges`: its

@@ -382,17 +382,24 @@ fn sphere_in_box() {
     println!("{}", mesh.history);
 }
 
-#[test]
-fn cube_with_cubic_hole_and_field_points() {
+/// A 3×3×3 box with a unit cubic hole in the middle, and 2,000 random field points in the
+/// outer box, the hole included.
+fn cube_with_cubic_hole_and_field() -> (Plc3, Vec<[f64; 3]>) {
     let mut plc = Plc3::default();
     let (p, t) = box_surface([0.0; 3], [3.0; 3], 6, true);
     add_surface(&mut plc, &p, &t, 1);
     let (q, s) = box_surface([1.0; 3], [2.0; 3], 2, true);
     add_surface(&mut plc, &q, &s, 2);
     let mut rng = StdRng::seed_from_u64(7);
-    let field: Vec<[f64; 3]> = (0..2000)
+    let field = (0..2000)
         .map(|_| [0, 1, 2].map(|_| rng.gen_range(0.01..2.99)))
         .collect();
+    (plc, field)
+}
+
+#[test]
+fn cube_with_cubic_hole_and_field_points() {
+    let (plc, field) = cube_with_cubic_hole_and_field();
     let mesh = BoundaryRecovery3::default()
         .with_points(field)
         .run(&plc)
@@ -696,15 +703,7 @@ fn constrained_recovery_of_boxes_spheres_and_holes() {
     add_surface(&mut plc, &q, &s, 2);
     both_recoveries(&plc, 64.0 - sphere, &[]);
 
-    let mut plc = Plc3::default();
-    let (p, t) = box_surface([0.0; 3], [3.0; 3], 6, true);
-    add_surface(&mut plc, &p, &t, 1);
-    let (q, s) = box_surface([1.0; 3], [2.0; 3], 2, true);
-    add_surface(&mut plc, &q, &s, 2);
-    let mut rng = StdRng::seed_from_u64(7);
-    let field: Vec<[f64; 3]> = (0..2000)
-        .map(|_| [0, 1, 2].map(|_| rng.gen_range(0.01..2.99)))
-        .collect();
+    let (plc, field) = cube_with_cubic_hole_and_field();
     let (conforming, constrained) = both_recoveries(&plc, 26.0, &field);
     assert!(
         constrained.history.flipped_in > 0,

@@ -23,7 +23,7 @@ use delmesh_boundary_recovery::{
     BoundaryRecovery3, Mesh3, MeshArrays3, Plc3, PolygonFacet, RecoveryHistory3, RecoveryMethod3,
     RecoveryStep, RegionSeed3, SurfaceTriangle,
 };
-use delmesh_delaunay_core::{FacetRef, Flips3};
+use delmesh_delaunay_core::{FacetRef, Flips3, VertexId};
 use delmesh_io::{SurfaceFile, TetMeshOut};
 use delmesh_point_gen::{
     Adaptation, BackgroundMesh3, GenerationReport3, PointGeneration3, QualityRefinement3, Source3,
@@ -261,14 +261,7 @@ pub enum Restoration3 {
 /// to the boundary edges and faces that recovery flipped in, which a constrained mesh keeps)
 /// are reported, not split.
 pub fn restore_by_flips(mesh: &mut Mesh3, arrays: &MeshArrays3) -> Restoration3 {
-    let tri = mesh.ct.triangulation();
-    let moves: Vec<_> = arrays
-        .vertex
-        .iter()
-        .zip(&arrays.coords)
-        .filter(|&(&v, &p)| tri.vertex(v) != p)
-        .map(|(&v, &p)| (v, p))
-        .collect();
+    let moves = smoothing_moves(mesh, arrays);
     // Smoothing keeps every element positive, so the move is accepted; if it were not, the
     // smoothed points are dropped and the recovered mesh flipped as it is.
     let _ = mesh.ct.move_vertices(&moves);
@@ -277,6 +270,19 @@ pub fn restore_by_flips(mesh: &mut Mesh3, arrays: &MeshArrays3) -> Restoration3 
         split_edges: 0,
         surface_points: 0,
     }
+}
+
+/// The vertices smoothing moved, each with its new place (`arrays` is `mesh.to_arrays()`
+/// with the smoothed coordinates).
+fn smoothing_moves(mesh: &Mesh3, arrays: &MeshArrays3) -> Vec<(VertexId, [f64; 3])> {
+    let tri = mesh.ct.triangulation();
+    arrays
+        .vertex
+        .iter()
+        .zip(&arrays.coords)
+        .filter(|&(&v, &p)| tri.vertex(v) != p)
+        .map(|(&v, &p)| (v, p))
+        .collect()
 }
 
 /// The most rounds of edge splits (each followed by flips) before [`restore_after_smoothing`]
@@ -304,14 +310,7 @@ pub fn restore_after_smoothing(
     plc: &Plc3,
     max_steiner_points: Option<usize>,
 ) -> Result<Restoration3, Error> {
-    let tri = mesh.ct.triangulation();
-    let moves: Vec<_> = arrays
-        .vertex
-        .iter()
-        .zip(&arrays.coords)
-        .filter(|&(&v, &p)| tri.vertex(v) != p)
-        .map(|(&v, &p)| (v, p))
-        .collect();
+    let moves = smoothing_moves(mesh, arrays);
     // Every cell is in scope: a split boundary edge changes cells outside the domain too.
     let all = |_tag: u32| true;
     // Smoothing keeps every element positive (exactly), so the move is accepted; if it were
