@@ -3,7 +3,7 @@
 
 use crate::classify::OUTSIDE;
 use crate::recovery::Mesh2;
-use delmesh_delaunay_core::{CellId, VertexId};
+use delmesh_delaunay_core::{CellId, Renumbering, VertexId};
 use rayon::prelude::*;
 
 /// A mesh as flat arrays, vertices renumbered: input points first in input order, then the
@@ -48,6 +48,19 @@ impl Mesh2 {
     pub fn is_element(&self, c: CellId) -> bool {
         let tri = self.cdt.triangulation();
         tri.is_live(c) && !tri.is_ghost(c) && self.cdt.tag(c) != OUTSIDE
+    }
+
+    /// Renumbers the triangulation's vertices and cells along a space-filling curve, for the
+    /// memory locality of every later sweep (see `Triangulation::renumber`); the spacing and the
+    /// boundary edges move with their vertices. The output arrays, numbered by input order, do
+    /// not change.
+    pub fn renumber(&mut self) -> Renumbering {
+        let map = self.cdt.renumber();
+        self.spacing = map.permute_vertices(&self.spacing, f64::NAN);
+        for e in &mut self.edges {
+            (e.a, e.b) = (map.vertex(e.a), map.vertex(e.b));
+        }
+        map
     }
 
     /// Number of elements.

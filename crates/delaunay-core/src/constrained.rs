@@ -149,6 +149,28 @@ impl ConstrainedTriangulation2 {
         self.log.take().unwrap_or_default()
     }
 
+    /// Renumbers the vertices and cells for memory locality ([`Triangulation::renumber`]);
+    /// constraints, tags, change stamps and the record of changed cells move with their cells.
+    pub fn renumber(&mut self) -> crate::Renumbering {
+        self.sync();
+        let map = self.tri.renumber();
+        self.constrained = map.permute_cells(&self.constrained);
+        self.tags = map.permute_cells(&self.tags);
+        self.stamps = map.permute_cells(&self.stamps);
+        if let Some(log) = &mut self.log {
+            log.retain_mut(|c| match map.cell(*c) {
+                Some(n) => {
+                    *c = n;
+                    true
+                }
+                None => false,
+            });
+        }
+        debug_assert!(self.stack.is_empty());
+        self.stack.clear();
+        map
+    }
+
     /// The epoch in which cell slot `c` was last created or changed: a cell whose epoch is
     /// older than some epoch `e` is exactly as it was when `e` began.
     #[inline]

@@ -271,6 +271,55 @@ pub(crate) fn brio_order_from<D: Dim>(points: &[D::Point], first_round: usize) -
     keyed.into_iter().map(|(_, i)| i).collect()
 }
 
+/// The points' order along a Hilbert curve (16 bits per axis over their bounding box, one
+/// scale for all axes), ties by index: [`brio_order_from`] with a single round, cheaper where
+/// the key and the index fit in one `u64` (2D).
+pub(crate) fn hilbert_order<D: Dim>(points: &[D::Point]) -> Vec<u32> {
+    if D::N as u32 * HILBERT_BITS > 32 {
+        return brio_order_from::<D>(points, usize::MAX);
+    }
+    let (lo, hi) = points
+        .par_iter()
+        .with_min_len(1 << 12)
+        .fold(
+            || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+            |(mut lo, mut hi), p| {
+                for (k, &x) in p.as_ref().iter().enumerate() {
+                    lo[k] = lo[k].min(x);
+                    hi[k] = hi[k].max(x);
+                }
+                (lo, hi)
+            },
+        )
+        .reduce(
+            || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+            |a, b| {
+                (
+                    std::array::from_fn(|k| a.0[k].min(b.0[k])),
+                    std::array::from_fn(|k| a.1[k].max(b.1[k])),
+                )
+            },
+        );
+    let extent = (0..D::N).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max);
+    let cells = f64::from((1u32 << HILBERT_BITS) - 1);
+    let scale = if extent > 0.0 { cells / extent } else { 0.0 };
+    let mut keyed: Vec<u64> = points
+        .par_iter()
+        .enumerate()
+        .with_min_len(1 << 12)
+        .map(|(i, p)| {
+            let p = p.as_ref();
+            let mut q = [0u32; 3];
+            for k in 0..D::N {
+                q[k] = ((p[k] - lo[k]) * scale) as u32;
+            }
+            D::hilbert_key(&q[..D::N]) << 32 | i as u64
+        })
+        .collect();
+    keyed.par_sort_unstable();
+    keyed.into_par_iter().map(|k| k as u32).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

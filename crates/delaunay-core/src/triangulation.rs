@@ -200,7 +200,7 @@ pub struct Triangulation<D: Dim> {
     /// One cell containing each vertex.
     pub(crate) incident: Vec<CellId>,
     /// Scratch: each vertex's local number in the current cavity (see `local_id`).
-    local: Vec<u32>,
+    pub(crate) local: Vec<u32>,
     /// During [`Triangulation::new`], `incident` is not maintained (nothing reads it) and is
     /// rebuilt at the end in one sequential pass.
     bulk: bool,

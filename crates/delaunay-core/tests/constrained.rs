@@ -260,3 +260,91 @@ proptest! {
         prop_assert_eq!(cdt.constrained_edges().len(), segs.len());
     }
 }
+
+/// The constrained edges as sorted pairs of input indices.
+fn constrained_set(cdt: &ConstrainedTriangulation2) -> BTreeSet<(usize, usize)> {
+    let t = cdt.triangulation();
+    cdt.constrained_edges()
+        .into_iter()
+        .map(|(a, b)| {
+            let (a, b) = (t.input_index(a), t.input_index(b));
+            (a.min(b), a.max(b))
+        })
+        .collect()
+}
+
+/// Each finite cell (sorted input triple) with its tag.
+fn tag_set(cdt: &ConstrainedTriangulation2) -> BTreeSet<([usize; 3], u32)> {
+    let t = cdt.triangulation();
+    t.cells()
+        .map(|c| {
+            let mut k = [0; 3];
+            for (j, &v) in t.cell(c).iter().enumerate() {
+                k[j] = t.input_index(v);
+            }
+            k.sort_unstable();
+            (k, cdt.tag(c))
+        })
+        .collect()
+}
+
+#[test]
+fn renumbering_keeps_cells_constraints_and_tags_and_insertion_goes_on() {
+    for seed in 0..3 {
+        let mut pts = vec![[-1.0, -1.0], [2.0, -1.0], [2.0, 2.0], [-1.0, 2.0]];
+        pts.extend(uniform2(600, seed));
+        pts.push(pts[9]); // a duplicate: both inputs name one vertex
+        let segs = random_segments(&pts, 200, seed + 7);
+        let mut cdt = ConstrainedTriangulation2::new(Triangulation2::new(&pts).unwrap());
+        for &(a, b) in &segs {
+            let t = cdt.triangulation();
+            let (va, vb) = (t.vertex_of_input(a), t.vertex_of_input(b));
+            cdt.insert_segment(va, vb).unwrap();
+        }
+        let cells: Vec<_> = cdt.triangulation().cells().collect();
+        for (k, &c) in cells.iter().enumerate() {
+            cdt.set_tag(c, (k % 5) as u32);
+        }
+        let old_vertex: Vec<VertexId> = (0..pts.len())
+            .map(|i| cdt.triangulation().vertex_of_input(i))
+            .collect();
+        let (before, constraints) = (tag_set(&cdt), constrained_set(&cdt));
+        let slots = cdt.num_cell_slots();
+
+        let map = cdt.renumber();
+        cdt.validate().unwrap();
+        assert_eq!(tag_set(&cdt), before);
+        assert_eq!(constrained_set(&cdt), constraints);
+        assert_eq!(cdt.num_cell_slots(), slots, "no free slots to drop in 2D");
+        let t = cdt.triangulation();
+        for (i, &v) in old_vertex.iter().enumerate() {
+            assert_eq!(t.vertex_of_input(i), map.vertex(v), "input {i}");
+            assert_eq!(t.vertex(map.vertex(v)), pts[i]);
+        }
+        let mut seen = map.vertex.clone();
+        seen.sort_unstable();
+        assert!(seen.iter().enumerate().all(|(k, &v)| v as usize == k));
+        // Neighbouring cells are close in the new numbering: most vertex pairs of a cell are
+        // within a small window (random order would put nearly all of them far apart).
+        let n = t.num_vertices();
+        let near = t
+            .cells()
+            .filter(|&c| {
+                let v = t.cell(c);
+                (v[0].index() as i64 - v[1].index() as i64).unsigned_abs() < (n / 8) as u64
+            })
+            .count();
+        assert!(
+            near * 10 > t.cells().count() * 7,
+            "{near} of {}",
+            t.cells().count()
+        );
+
+        // Insertion and segments go on in the new numbering.
+        for p in uniform2(300, seed + 50) {
+            insert_inside(&mut cdt, p);
+        }
+        cdt.validate().unwrap();
+        assert_eq!(constrained_set(&cdt), constraints);
+    }
+}

@@ -438,3 +438,38 @@ fn grid_squares_are_cut_by_the_perturbation_s_diagonal() {
         }
     }
 }
+
+/// The finite cells as sorted tuples of input indices.
+fn input_cells<D: Dim>(t: &Triangulation<D>) -> std::collections::BTreeSet<Vec<usize>> {
+    t.cells()
+        .map(|c| {
+            let mut k: Vec<usize> = t.cell(c).iter().map(|&v| t.input_index(v)).collect();
+            k.sort_unstable();
+            k
+        })
+        .collect()
+}
+
+#[test]
+fn renumbering_keeps_the_triangulation_in_2d_and_3d() {
+    let mut t2 = Triangulation2::new(&uniform2(3000, 11)).unwrap();
+    let before = input_cells(&t2);
+    t2.renumber();
+    t2.validate().unwrap();
+    assert_eq!(input_cells(&t2), before);
+
+    // Co-spherical grid points: the perturbation decides, by coordinates, not by numbers.
+    for points in [uniform3(3000, 12), grid3(9)] {
+        let mut t3 = Triangulation3::new(&points).unwrap();
+        let before = input_cells(&t3);
+        let map = t3.renumber();
+        t3.validate().unwrap();
+        assert_eq!(input_cells(&t3), before);
+        assert_eq!(t3.num_cells(), before.len());
+        for (i, &p) in points.iter().enumerate() {
+            assert_eq!(t3.vertex(t3.vertex_of_input(i)), p);
+        }
+        let kept = map.cell.iter().filter(|&&c| c != u32::MAX).count();
+        assert_eq!(kept, t3.all_cells().count());
+    }
+}

@@ -111,6 +111,56 @@ fn all_recovery_methods_with_and_without_smoothing() {
     }
 }
 
+/// A closed loop of `k` points per side around the square `[lo, hi]²`, counter-clockwise or
+/// clockwise, appended to `plc`.
+fn square_loop(plc: &mut Plc2, lo: f64, hi: f64, k: usize, clockwise: bool) {
+    let first = plc.points.len() as u32;
+    let w = hi - lo;
+    for side in 0..4 {
+        for i in 0..k {
+            let t = lo + w * i as f64 / k as f64;
+            let u = hi + lo - t;
+            plc.points.push(match side {
+                0 => [t, lo],
+                1 => [hi, t],
+                2 => [u, hi],
+                _ => [lo, u],
+            });
+        }
+    }
+    let n = 4 * k as u32;
+    for i in 0..n {
+        let (a, b) = (first + i, first + (i + 1) % n);
+        let (a, b) = if clockwise { (b, a) } else { (a, b) };
+        plc.segments
+            .push(delmesh::recovery::Segment { a, b, marker: 1 });
+    }
+}
+
+#[test]
+fn a_mesh_large_enough_to_be_renumbered_passes_the_checks() {
+    // About 100,000 triangles: generation renumbers the mesh along a space-filling curve
+    // (from 65,536 elements on), so this checks the pipeline across renumberings.
+    let mut plc = Plc2::default();
+    square_loop(&mut plc, 0.0, 1.0, 320, false);
+    square_loop(&mut plc, 0.4, 0.6, 64, true);
+    plc.holes.push([0.5, 0.5]);
+    let run = mesh_plc(&plc, &MeshOptions2::default()).unwrap();
+    check_run(&run, &plc, "square with a hole");
+    let t = run.mesh.cdt.triangulation();
+    assert!(t.num_cells() > 80_000, "{} triangles", t.num_cells());
+    // Renumbered: the vertices of most triangles are near each other in the numbering (in
+    // generation order, 94% of the vertex pairs of the 10^6-triangle square were 2048 apart).
+    let near = t
+        .cells()
+        .filter(|&c| {
+            let v = t.cell(c);
+            (v[0].index() as i64 - v[1].index() as i64).unsigned_abs() < 2048
+        })
+        .count();
+    assert!(near * 2 > t.num_cells(), "{near} of {}", t.num_cells());
+}
+
 #[test]
 fn the_aerofoil_quality_target() {
     // The target: minimum angle at least 25° after generation and smoothing, away from

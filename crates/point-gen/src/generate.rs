@@ -19,6 +19,9 @@
 //! exception is a candidate refused for the nodes of *another* element (rounding put a thin
 //! element's centroid outside it), which is looked at again in the next pass. The candidates
 //! of a pass are evaluated in parallel; the result does not depend on the number of threads.
+//!
+//! Large meshes are renumbered along a space-filling curve as they grow ([`RENUMBER_MIN`]), so
+//! that the later passes and stages read memory in order.
 
 use crate::SpacingField;
 use delmesh_boundary_recovery::Mesh2;
@@ -62,6 +65,15 @@ pub enum PointGenError {
     #[error(transparent)]
     Insertion(#[from] ConstraintError),
 }
+
+/// Meshes of at least this many elements are renumbered along a space-filling curve
+/// ([`Mesh2::renumber`]) whenever they have doubled since the last time, and at the end if
+/// they have grown by a quarter since: passes over the whole domain number the new vertices
+/// and cells pass by pass, so that neighbours end up far apart in memory and most reads of the
+/// later passes and stages miss the cache (after generation at 10^6 triangles, 84% of
+/// neighbour links span more than 4096 cell slots). Renumbering costs a few sweeps over the
+/// mesh (0.08 s at 900,000 triangles); smaller meshes fit in the cache.
+pub const RENUMBER_MIN: usize = 1 << 16;
 
 /// Settings of automatic point generation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -132,7 +144,9 @@ impl fmt::Display for GenerationReport {
 
 impl PointGeneration {
     /// Fills the domain of `mesh` with points spaced as `field` says (see the module docs).
-    /// New nodes get their spacing in `mesh.spacing`.
+    /// New nodes get their spacing in `mesh.spacing`. A mesh that reaches [`RENUMBER_MIN`]
+    /// elements is renumbered ([`Mesh2::renumber`]): vertex and cell ids taken before the call
+    /// do not hold after it (input indices do).
     ///
     /// # Errors
     /// A bad α, or a spacing that is not positive and finite.
@@ -155,6 +169,8 @@ impl PointGeneration {
         // The elements to look at: all of them first, then those the previous pass changed
         // (recorded by the triangulation as it changes them).
         let mut cells = elements_where(mesh, |_| true);
+        // The element count at the last renumbering (see `RENUMBER_MIN`).
+        let mut renumbered = elements;
         while report.passes.len() < self.max_passes && added < self.max_points {
             let previous = mesh.cdt.changed_in_epoch();
             let epoch = mesh.cdt.next_epoch(true);
@@ -253,6 +269,16 @@ impl PointGeneration {
             if accepted == 0 {
                 break;
             }
+            if elements >= RENUMBER_MIN && elements >= 2 * renumbered {
+                renumbered = elements;
+                let map = mesh.renumber();
+                dp = map.permute_vertices(&dp, f64::NAN);
+                cells.retain_mut(|c| map.cell(*c).map(|n| *c = n).is_some());
+                retry.retain_mut(|c| map.cell(*c).map(|n| *c = n).is_some());
+            }
+        }
+        if elements >= RENUMBER_MIN && 4 * elements >= 5 * renumbered {
+            mesh.renumber();
         }
         Ok(report)
     }

@@ -13,7 +13,9 @@ mod refine3;
 mod spacing;
 mod spacing3;
 
-pub use generate::{GenerationPass, GenerationReport, PointGenError, PointGeneration};
+pub use generate::{
+    GenerationPass, GenerationReport, PointGenError, PointGeneration, RENUMBER_MIN,
+};
 pub use generate3::{GenerationPass3, GenerationReport3, PointGeneration3};
 pub use refine::QualityRefinement;
 pub use refine3::QualityRefinement3;
