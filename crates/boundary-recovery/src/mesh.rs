@@ -96,7 +96,8 @@ impl Mesh2 {
     }
 
     /// What smoothing needs of [`Mesh2::to_arrays`], cheaper: `coords`, `triangles`,
-    /// `on_boundary` and `vertex` as there; the other fields are empty.
+    /// `on_boundary` and `vertex` as there, but with the vertices in the triangulation's order
+    /// (not input order); the other fields are empty.
     pub fn smoothing_arrays(&self) -> MeshArrays {
         self.arrays(false)
     }
@@ -112,12 +113,20 @@ impl Mesh2 {
                 used[v.index()] = true;
             }
         }
-        // In input order: each vertex has its own input index, so placing them by it sorts.
-        let mut by_input = vec![VertexId::GHOST; tri.num_input_points()];
-        for v in (0..nv as u32).map(VertexId).filter(|v| used[v.index()]) {
-            by_input[tri.input_index(v)] = v;
-        }
-        let order: Vec<VertexId> = by_input.into_iter().filter(|v| !v.is_ghost()).collect();
+        // Output arrays in input order (each vertex has its own input index, so placing them by
+        // it sorts); smoothing's in the triangulation's own order, which keeps its locality.
+        let order: Vec<VertexId> = if full {
+            let mut by_input = vec![VertexId::GHOST; tri.num_input_points()];
+            for v in (0..nv as u32).map(VertexId).filter(|v| used[v.index()]) {
+                by_input[tri.input_index(v)] = v;
+            }
+            by_input.into_iter().filter(|v| !v.is_ghost()).collect()
+        } else {
+            (0..nv as u32)
+                .map(VertexId)
+                .filter(|v| used[v.index()])
+                .collect()
+        };
         let mut number = vec![u32::MAX; nv];
         for (k, &v) in order.iter().enumerate() {
             number[v.index()] = k as u32;
