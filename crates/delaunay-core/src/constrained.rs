@@ -158,15 +158,9 @@ impl ConstrainedTriangulation2 {
         self.tags = map.permute_cells(&self.tags);
         self.stamps = map.permute_cells(&self.stamps);
         if let Some(log) = &mut self.log {
-            log.retain_mut(|c| match map.cell(*c) {
-                Some(n) => {
-                    *c = n;
-                    true
-                }
-                None => false,
-            });
+            map.renumber_cells(log);
         }
-        debug_assert!(self.stack.is_empty());
+        // (Scratch of the flips, empty between operations.)
         self.stack.clear();
         map
     }

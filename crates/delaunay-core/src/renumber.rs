@@ -47,6 +47,17 @@ impl Renumbering {
         }
     }
 
+    /// Renumbers a list of cell ids in place, dropping those whose slot was free.
+    pub fn renumber_cells(&self, cells: &mut Vec<CellId>) {
+        cells.retain_mut(|c| match self.cell(*c) {
+            Some(n) => {
+                *c = n;
+                true
+            }
+            None => false,
+        });
+    }
+
     /// `values` (one per old cell slot) moved to the new cell numbering; free slots' values
     /// are dropped.
     pub fn permute_cells<T: Copy + Send + Sync>(&self, values: &[T]) -> Vec<T> {

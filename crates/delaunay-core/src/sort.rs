@@ -231,29 +231,13 @@ pub(crate) fn brio_order<D: Dim>(points: &[D::Point]) -> Vec<u32> {
 /// [`brio_order`] with a first round of at least `first_round` points.
 pub(crate) fn brio_order_from<D: Dim>(points: &[D::Point], first_round: usize) -> Vec<u32> {
     let n = points.len();
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in points {
-        for (k, &x) in p.as_ref().iter().enumerate() {
-            lo[k] = lo[k].min(x);
-            hi[k] = hi[k].max(x);
-        }
-    }
-    // One scale for all axes keeps the curve's cells cubes, so thin slabs stay well ordered.
-    let extent = (0..D::N).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max);
-    let cells = f64::from((1u32 << HILBERT_BITS) - 1);
-    let scale = if extent > 0.0 { cells / extent } else { 0.0 };
+    let frame = HilbertFrame::of::<D>(points);
     let mut rounds = 0u32;
     while n >> (3 * (rounds + 1)) >= first_round {
         rounds += 1;
     }
     let key = |(i, p): (usize, &D::Point)| {
-        let p = p.as_ref();
-        let mut q = [0u32; 3];
-        for k in 0..D::N {
-            q[k] = ((p[k] - lo[k]) * scale) as u32;
-        }
-        let hilbert = D::hilbert_key(&q[..D::N]);
+        let hilbert = frame.key::<D>(p);
         // Level ≥ k with probability 8^-k; the rarest levels are inserted first.
         let level = (SplitMix(i as u64 ^ 0x5EED_DE1A).next_u64().leading_zeros() / 3).min(rounds);
         (u64::from(rounds - level) << 58 | hilbert, i as u32)
@@ -271,6 +255,55 @@ pub(crate) fn brio_order_from<D: Dim>(points: &[D::Point], first_round: usize) -
     keyed.into_iter().map(|(_, i)| i).collect()
 }
 
+/// The grid the Hilbert keys are taken on: the points' bounding box, with one scale for all
+/// axes (the curve's cells stay cubes, so thin slabs stay well ordered) onto 16 bits.
+struct HilbertFrame {
+    lo: [f64; 3],
+    scale: f64,
+}
+
+impl HilbertFrame {
+    fn of<D: Dim>(points: &[D::Point]) -> HilbertFrame {
+        let grow = |(mut lo, mut hi): ([f64; 3], [f64; 3]), p: &D::Point| {
+            for (k, &x) in p.as_ref().iter().enumerate() {
+                lo[k] = lo[k].min(x);
+                hi[k] = hi[k].max(x);
+            }
+            (lo, hi)
+        };
+        let empty = || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        let (lo, hi) = if points.len() < PARALLEL_MIN {
+            points.iter().fold(empty(), grow)
+        } else {
+            points
+                .par_iter()
+                .with_min_len(1 << 12)
+                .fold(empty, grow)
+                .reduce(empty, |a, b| {
+                    (
+                        std::array::from_fn(|k| a.0[k].min(b.0[k])),
+                        std::array::from_fn(|k| a.1[k].max(b.1[k])),
+                    )
+                })
+        };
+        let extent = (0..D::N).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max);
+        let cells = f64::from((1u32 << HILBERT_BITS) - 1);
+        let scale = if extent > 0.0 { cells / extent } else { 0.0 };
+        HilbertFrame { lo, scale }
+    }
+
+    /// The Hilbert key of `p` (at most `16·N` bits).
+    #[inline]
+    fn key<D: Dim>(&self, p: &D::Point) -> u64 {
+        let p = p.as_ref();
+        let mut q = [0u32; 3];
+        for k in 0..D::N {
+            q[k] = ((p[k] - self.lo[k]) * self.scale) as u32;
+        }
+        D::hilbert_key(&q[..D::N])
+    }
+}
+
 /// The points' order along a Hilbert curve (16 bits per axis over their bounding box, one
 /// scale for all axes), ties by index: [`brio_order_from`] with a single round, cheaper where
 /// the key and the index fit in one `u64` (2D).
@@ -278,43 +311,12 @@ pub(crate) fn hilbert_order<D: Dim>(points: &[D::Point]) -> Vec<u32> {
     if D::N as u32 * HILBERT_BITS > 32 {
         return brio_order_from::<D>(points, usize::MAX);
     }
-    let (lo, hi) = points
-        .par_iter()
-        .with_min_len(1 << 12)
-        .fold(
-            || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
-            |(mut lo, mut hi), p| {
-                for (k, &x) in p.as_ref().iter().enumerate() {
-                    lo[k] = lo[k].min(x);
-                    hi[k] = hi[k].max(x);
-                }
-                (lo, hi)
-            },
-        )
-        .reduce(
-            || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
-            |a, b| {
-                (
-                    std::array::from_fn(|k| a.0[k].min(b.0[k])),
-                    std::array::from_fn(|k| a.1[k].max(b.1[k])),
-                )
-            },
-        );
-    let extent = (0..D::N).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max);
-    let cells = f64::from((1u32 << HILBERT_BITS) - 1);
-    let scale = if extent > 0.0 { cells / extent } else { 0.0 };
+    let frame = HilbertFrame::of::<D>(points);
     let mut keyed: Vec<u64> = points
         .par_iter()
         .enumerate()
         .with_min_len(1 << 12)
-        .map(|(i, p)| {
-            let p = p.as_ref();
-            let mut q = [0u32; 3];
-            for k in 0..D::N {
-                q[k] = ((p[k] - lo[k]) * scale) as u32;
-            }
-            D::hilbert_key(&q[..D::N]) << 32 | i as u64
-        })
+        .map(|(i, p)| frame.key::<D>(p) << 32 | i as u64)
         .collect();
     keyed.par_sort_unstable();
     keyed.into_par_iter().map(|k| k as u32).collect()

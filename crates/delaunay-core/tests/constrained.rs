@@ -5,25 +5,26 @@ mod common;
 
 use common::{grid2, uniform2};
 use delmesh_delaunay_core::{
-    ConstrainedTriangulation2, ConstraintError, Insertion, Triangulation2, VertexId,
+    CellId, ConstrainedTriangulation2, ConstraintError, Insertion, Triangulation2, VertexId,
 };
 use delmesh_predicates::{orient2d, Sign};
 use proptest::prelude::*;
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use std::collections::BTreeSet;
 
+/// The vertices of cell `c` in input numbering, sorted.
+fn input_triple(tri: &Triangulation2, c: CellId) -> [usize; 3] {
+    let mut t = [0; 3];
+    for (k, &v) in tri.cell(c).iter().enumerate() {
+        t[k] = tri.input_index(v);
+    }
+    t.sort_unstable();
+    t
+}
+
 /// The finite cells as sorted vertex triples in input numbering.
 fn cell_set(tri: &Triangulation2) -> BTreeSet<[usize; 3]> {
-    tri.cells()
-        .map(|c| {
-            let mut t = [0; 3];
-            for (k, &v) in tri.cell(c).iter().enumerate() {
-                t[k] = tri.input_index(v);
-            }
-            t.sort_unstable();
-            t
-        })
-        .collect()
+    tri.cells().map(|c| input_triple(tri, c)).collect()
 }
 
 fn crosses(p: &[[f64; 2]], s: (usize, usize), t: (usize, usize)) -> bool {
@@ -277,14 +278,7 @@ fn constrained_set(cdt: &ConstrainedTriangulation2) -> BTreeSet<(usize, usize)> 
 fn tag_set(cdt: &ConstrainedTriangulation2) -> BTreeSet<([usize; 3], u32)> {
     let t = cdt.triangulation();
     t.cells()
-        .map(|c| {
-            let mut k = [0; 3];
-            for (j, &v) in t.cell(c).iter().enumerate() {
-                k[j] = t.input_index(v);
-            }
-            k.sort_unstable();
-            (k, cdt.tag(c))
-        })
+        .map(|c| (input_triple(t, c), cdt.tag(c)))
         .collect()
 }
 

@@ -273,8 +273,8 @@ impl PointGeneration {
                 renumbered = elements;
                 let map = mesh.renumber();
                 dp = map.permute_vertices(&dp, f64::NAN);
-                cells.retain_mut(|c| map.cell(*c).map(|n| *c = n).is_some());
-                retry.retain_mut(|c| map.cell(*c).map(|n| *c = n).is_some());
+                map.renumber_cells(&mut cells);
+                map.renumber_cells(&mut retry);
             }
         }
         if elements >= RENUMBER_MIN && 4 * elements >= 5 * renumbered {
