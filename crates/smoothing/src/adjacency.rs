@@ -5,6 +5,9 @@
 //! these are generic over the row item so that the 3D smoother can keep each point's opposite
 //! faces as one `[u32; 3]` per tetrahedron.
 
+use rayon::prelude::*;
+use std::ops::Range;
+
 /// Compressed rows: `items[start[i]..start[i + 1]]` belong to row `i`.
 pub(crate) struct Rows<T> {
     start: Vec<usize>,
@@ -12,22 +15,37 @@ pub(crate) struct Rows<T> {
 }
 
 impl<T: Copy + Default> Rows<T> {
-    /// Rows for `n` keys from `(row, item)` pairs, items in the order they come within a row.
-    /// Every row index must be below `n` (the caller checked its input).
-    pub(crate) fn build(n: usize, pairs: impl Iterator<Item = (u32, T)> + Clone) -> Rows<T> {
-        let mut start = vec![0usize; n + 1];
-        for (r, _) in pairs.clone() {
-            start[r as usize + 1] += 1;
+    /// Rows for `n` keys built in parallel over ranges of keys: `fill(range, lens, items)`
+    /// appends, key by key of `range`, the row's length to `lens` and its items to `items`.
+    /// The ranges are cut by `ranges`; the rows do not depend on how.
+    pub(crate) fn build_in_ranges(
+        n: usize,
+        ranges: usize,
+        fill: impl Fn(Range<usize>, &mut Vec<usize>, &mut Vec<T>) + Sync,
+    ) -> Rows<T>
+    where
+        T: Send,
+    {
+        let ranges = ranges.clamp(1, n.max(1));
+        let pieces: Vec<(Vec<usize>, Vec<T>)> = (0..ranges)
+            .into_par_iter()
+            .map(|r| {
+                let keys = n * r / ranges..n * (r + 1) / ranges;
+                let (mut lens, mut items) = (Vec::with_capacity(keys.len()), Vec::new());
+                fill(keys, &mut lens, &mut items);
+                (lens, items)
+            })
+            .collect();
+        let mut start = Vec::with_capacity(n + 1);
+        start.push(0);
+        let mut items = Vec::with_capacity(pieces.iter().map(|p| p.1.len()).sum());
+        for (lens, piece) in pieces {
+            for l in lens {
+                start.push(start[start.len() - 1] + l);
+            }
+            items.extend(piece);
         }
-        for i in 0..n {
-            start[i + 1] += start[i];
-        }
-        let mut fill = start.clone();
-        let mut items = vec![T::default(); start[n]];
-        for (r, x) in pairs {
-            items[fill[r as usize]] = x;
-            fill[r as usize] += 1;
-        }
+        debug_assert_eq!(start.len(), n + 1);
         Rows { start, items }
     }
 
@@ -129,11 +147,40 @@ mod tests {
     fn colouring_separates_neighbours() {
         // A path 0-1-2-3 and a triangle 3-4-5.
         let edges = [(0, 1), (1, 2), (2, 3), (3, 4), (4, 5), (5, 3)];
-        let pairs: Vec<(u32, u32)> = edges.iter().flat_map(|&(a, b)| [(a, b), (b, a)]).collect();
-        let rows = Rows::build(6, pairs.iter().copied());
+        let rows = Rows::build_in_ranges(6, 2, |keys, lens, items| {
+            for v in keys {
+                let before = items.len();
+                for &(a, b) in &edges {
+                    if a == v {
+                        items.push(b as u32);
+                    } else if b == v {
+                        items.push(a as u32);
+                    }
+                }
+                lens.push(items.len() - before);
+            }
+        });
         let classes = colour_classes(&rows, &[false; 6]);
         assert_eq!(classes, vec![vec![0, 2, 4], vec![1, 3], vec![5]]);
         let classes = colour_classes(&rows, &[false, true, false, false, false, false]);
         assert_eq!(classes, vec![vec![0, 2, 4], vec![3], vec![5]]);
+    }
+
+    #[test]
+    fn rows_do_not_depend_on_the_ranges() {
+        let fill = |keys: Range<usize>, lens: &mut Vec<usize>, items: &mut Vec<u32>| {
+            for v in keys {
+                lens.push(v % 4);
+                items.extend((0..v % 4).map(|k| (v * 10 + k) as u32));
+            }
+        };
+        let one = Rows::build_in_ranges(50, 1, fill);
+        for ranges in [2, 3, 7, 50, 80] {
+            let rows = Rows::build_in_ranges(50, ranges, fill);
+            assert_eq!(rows.start, one.start, "{ranges} ranges");
+            assert_eq!(rows.items, one.items, "{ranges} ranges");
+        }
+        assert_eq!(one.row(7), &[70, 71, 72]);
+        assert!(Rows::<u32>::build_in_ranges(0, 4, fill).start == vec![0]);
     }
 }
