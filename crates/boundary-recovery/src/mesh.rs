@@ -35,6 +35,20 @@ pub struct MeshArrays {
 }
 
 impl Mesh2 {
+    /// Changes the mesh's units by `2^exponent`: vertex coordinates (see
+    /// `rescale_units` of the triangulation) and spacing. False, with nothing changed, if the
+    /// units would leave the range of `f64`.
+    pub fn rescale_units(&mut self, exponent: i32) -> bool {
+        if !self.cdt.rescale_units(exponent) {
+            return false;
+        }
+        let factor = 2f64.powi(exponent);
+        for h in &mut self.spacing {
+            *h *= factor;
+        }
+        true
+    }
+
     /// The elements: cells inside the domain.
     pub fn elements(&self) -> impl Iterator<Item = CellId> + '_ {
         self.cdt

@@ -58,6 +58,20 @@ pub fn tet_volume(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> f64 {
 }
 
 impl Mesh3 {
+    /// Changes the mesh's units by `2^exponent`: vertex coordinates (see
+    /// `rescale_units` of the triangulation) and spacing. False, with nothing changed, if the
+    /// units would leave the range of `f64`.
+    pub fn rescale_units(&mut self, exponent: i32) -> bool {
+        if !self.ct.rescale_units(exponent) {
+            return false;
+        }
+        let factor = 2f64.powi(exponent);
+        for h in &mut self.spacing {
+            *h *= factor;
+        }
+        true
+    }
+
     /// The elements: finite cells inside the domain.
     pub fn elements(&self) -> impl Iterator<Item = CellId> + '_ {
         self.ct

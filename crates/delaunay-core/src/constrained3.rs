@@ -66,6 +66,11 @@ impl ConstrainedTriangulation3 {
         }
     }
 
+    /// Changes the caller's units by `2^exponent` ([`Triangulation::rescale_units`]).
+    pub fn rescale_units(&mut self, exponent: i32) -> bool {
+        self.tri.rescale_units(exponent)
+    }
+
     /// The underlying triangulation (cells, neighbours, vertices, queries).
     pub fn triangulation(&self) -> &Triangulation<D3> {
         &self.tri

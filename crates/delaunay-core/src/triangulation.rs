@@ -1373,6 +1373,28 @@ impl<D: Dim> Triangulation<D> {
     pub(crate) fn unscale(&self) -> f64 {
         self.unscale
     }
+
+    /// Changes the caller's units by the factor `2^exponent`: from now on every coordinate
+    /// the triangulation gives ([`Triangulation::vertex`] and the rest) is that many times what
+    /// it was, and coordinates given to it are read in the new units. Vertices and cells do not
+    /// change, and a power of two changes no coordinate's digits. Returns false (and changes
+    /// nothing) if the units would leave the range of `f64`.
+    ///
+    /// A problem far from ordinary magnitudes can so be solved scaled into them and its result
+    /// handed back in the caller's units.
+    pub fn rescale_units(&mut self, exponent: i32) -> bool {
+        if exponent.unsigned_abs() > 1000 {
+            return false;
+        }
+        let factor = 2f64.powi(exponent);
+        let (unscale, scale) = (self.unscale * factor, self.scale / factor);
+        let ordinary = |x: f64| x.is_normal() && (2f64.powi(-1000)..=2f64.powi(1000)).contains(&x);
+        if !(ordinary(unscale) && ordinary(scale)) {
+            return false;
+        }
+        (self.unscale, self.scale) = (unscale, scale);
+        true
+    }
 }
 
 /// The key of the ridge of a new cell opposite its apex and its local vertex `j`: the cell's

@@ -38,5 +38,6 @@ pub mod geometry;
 pub mod geometry3;
 pub mod mesh2d;
 pub mod mesh3d;
+pub mod units;
 
 pub use error::Error;

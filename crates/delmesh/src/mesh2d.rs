@@ -32,7 +32,7 @@ use delmesh_point_gen::{
 };
 use delmesh_smoothing::{QualityReport, SmoothStats, Smoother};
 
-use crate::Error;
+use crate::{units, Error};
 
 /// Where the spacing of automatic point generation comes from.
 #[derive(Clone, Debug, Default)]
@@ -103,12 +103,26 @@ pub struct MeshRun2 {
     pub timings: Vec<(&'static str, f64)>,
 }
 
-/// Runs the pipeline on `plc`.
+/// Runs the pipeline on `plc`. A domain far from ordinary magnitudes is meshed scaled by a
+/// power of two and handed back in its own units ([`crate::units`]): the same mesh, exactly,
+/// as the scaled problem's.
 ///
 /// # Errors
 /// Invalid input (crossing segments, bad seeds, non-finite coordinates; named in the input's
 /// numbering), a domain with no element, or a bad option.
 pub fn mesh_plc(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Error> {
+    let e = units::normalising_exponent(&plc.points);
+    if e == 0 {
+        return mesh_plc_as_given(plc, options);
+    }
+    let (plc, options) = units::scale_problem2(plc, options, e);
+    let mut run = mesh_plc_as_given(&plc, &options)?;
+    units::unscale_run2(&mut run, -e)?;
+    Ok(run)
+}
+
+/// [`mesh_plc`] on the problem as it is (no rescaling).
+fn mesh_plc_as_given(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Error> {
     let mut timings = Vec::new();
     let mut clock = Instant::now();
     let mut lap = |name: &'static str, timings: &mut Vec<(&'static str, f64)>| {

@@ -32,7 +32,7 @@ use delmesh_point_gen::{
 use delmesh_predicates::{orient3d, Sign};
 use delmesh_smoothing::{dihedral_range, QualityReport3, SmoothStats, Smoother3};
 
-use crate::Error;
+use crate::{units, Error};
 
 /// Where the spacing of 3D point generation comes from.
 #[derive(Clone, Debug, Default)]
@@ -131,12 +131,26 @@ pub struct MeshRun3 {
     pub marker_names: Vec<(i32, String)>,
 }
 
-/// Runs the pipeline on `plc`.
+/// Runs the pipeline on `plc`. A domain far from ordinary magnitudes is meshed scaled by a
+/// power of two and handed back in its own units ([`crate::units`]): the same mesh, exactly,
+/// as the scaled problem's.
 ///
 /// # Errors
 /// Invalid input (named in the input's numbering), a surface that could not be recovered, a
 /// domain with no element, or a bad option.
 pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> {
+    let e = units::normalising_exponent(&plc.points);
+    if e == 0 {
+        return mesh_plc3_as_given(plc, options);
+    }
+    let (plc, options) = units::scale_problem3(plc, options, e);
+    let mut run = mesh_plc3_as_given(&plc, &options)?;
+    units::unscale_run3(&mut run, -e)?;
+    Ok(run)
+}
+
+/// [`mesh_plc3`] on the problem as it is (no rescaling).
+fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> {
     let mut timings = Vec::new();
     let mut clock = Instant::now();
     let mut lap = |name: &'static str, timings: &mut Vec<(&'static str, f64)>| {

@@ -214,3 +214,41 @@ fn demo_counts_and_quality_snapshot() {
     }
     insta::assert_snapshot!(text);
 }
+
+#[test]
+fn a_domain_far_from_unit_size_gives_the_unit_mesh_scaled() {
+    // 2^±450 across, squared lengths and areas leave the range of f64: the pipeline meshes
+    // the domain scaled by a power of two, so the mesh is exactly the unit one's, scaled.
+    let mut unit = Plc2::default();
+    square_loop(&mut unit, 0.0, 1.0, 24, false);
+    square_loop(&mut unit, 0.375, 0.625, 6, true);
+    unit.holes.push([0.5, 0.5]);
+    let reference = mesh_plc(&unit, &MeshOptions2::default()).unwrap();
+    check_run(&reference, &unit, "unit square with a hole");
+    assert!(reference.generation.as_ref().unwrap().passes.len() > 1);
+    for e in [-450, -300, 300, 450] {
+        let f = 2f64.powi(e);
+        let mut plc = unit.clone();
+        for p in plc.points.iter_mut().chain(&mut plc.holes) {
+            *p = p.map(|x| x * f);
+        }
+        let run = mesh_plc(&plc, &MeshOptions2::default()).unwrap();
+        let scaled: Vec<[f64; 2]> = (reference.arrays.coords.iter())
+            .map(|p| p.map(|x| x * f))
+            .collect();
+        assert_eq!(run.arrays.triangles, reference.arrays.triangles, "2^{e}");
+        assert_eq!(run.arrays.coords, scaled, "2^{e}");
+        let (q, r) = (&run.quality, &reference.quality);
+        assert_eq!(
+            (q.min_angle, q.max_angle),
+            (r.min_angle, r.max_angle),
+            "2^{e}"
+        );
+        assert_eq!(q.total_area, r.total_area * f * f, "2^{e}");
+        // The mesh itself answers in the caller's units.
+        let t = run.mesh.cdt.triangulation();
+        for (v, p) in run.arrays.vertex.iter().zip(&run.arrays.coords) {
+            assert_eq!(t.vertex(*v), *p, "2^{e}");
+        }
+    }
+}

@@ -259,3 +259,45 @@ fn the_3d_pipeline_gives_the_same_mesh_whatever_the_number_of_threads() {
         assert_eq!(one.arrays.tets, other.arrays.tets, "{threads} threads");
     }
 }
+
+#[test]
+fn a_surface_far_from_unit_size_gives_the_unit_mesh_scaled() {
+    // A box 2^±300 across failed surface recovery (squared lengths out of range): the pipeline
+    // meshes it scaled by a power of two, so the mesh is exactly the unit-size one's, scaled.
+    let scaled_plc = |plc: &Plc3, f: f64| {
+        let mut plc = plc.clone();
+        for p in plc.points.iter_mut().chain(&mut plc.holes) {
+            *p = p.map(|x| x * f);
+        }
+        plc
+    };
+    let plc = geometry3::sphere_in_box(3);
+    // The unit problem: extent in [1, 2), which the pipeline meshes as it is.
+    let extent = (0..3)
+        .map(|k| {
+            let (lo, hi) = plc.points.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
+                (lo.min(p[k]), hi.max(p[k]))
+            });
+            hi - lo
+        })
+        .fold(0.0, f64::max);
+    let unit = scaled_plc(&plc, 2f64.powi(-(extent.log2().floor() as i32)));
+    let reference = mesh_plc3(&unit, &options(1.0)).unwrap();
+    check(&unit, &reference, 2, true);
+    for e in [-300, 300] {
+        let f = 2f64.powi(e);
+        let run = mesh_plc3(&scaled_plc(&unit, f), &options(1.0)).unwrap();
+        let scaled: Vec<[f64; 3]> = (reference.arrays.coords.iter())
+            .map(|p| p.map(|x| x * f))
+            .collect();
+        assert_eq!(run.arrays.tets, reference.arrays.tets, "2^{e}");
+        assert_eq!(run.arrays.coords, scaled, "2^{e}");
+        let (q, r) = (&run.quality, &reference.quality);
+        assert_eq!(q.min_dihedral, r.min_dihedral, "2^{e}");
+        assert_eq!(q.total_volume, r.total_volume * f * f * f, "2^{e}");
+        let t = run.mesh.ct.triangulation();
+        for (v, p) in run.arrays.vertex.iter().zip(&run.arrays.coords) {
+            assert_eq!(t.vertex(*v), *p, "2^{e}");
+        }
+    }
+}

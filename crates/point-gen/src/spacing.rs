@@ -63,6 +63,19 @@ pub struct BackgroundMesh2 {
 }
 
 impl BackgroundMesh2 {
+    /// The same mesh in units `2^exponent` times larger: coordinates and spacing values
+    /// scaled (exactly, for `|exponent|` up to 1000 and ordinary values), the search grid kept.
+    pub fn scaled(&self, exponent: i32) -> Self {
+        let f = 2f64.powi(exponent);
+        BackgroundMesh2 {
+            points: self.points.iter().map(|p| p.map(|x| x * f)).collect(),
+            spacing: self.spacing.iter().map(|h| h * f).collect(),
+            lo: self.lo.map(|x| x * f),
+            inv: self.inv.map(|x| x / f),
+            ..self.clone()
+        }
+    }
+
     /// Checks the mesh and builds its search grid. Triangles may be oriented either way.
     ///
     /// # Errors
@@ -422,6 +435,18 @@ pub struct Source {
 }
 
 impl Source {
+    /// The same source in units `2^exponent` times larger (growth is a ratio: unchanged).
+    pub fn scaled(&self, exponent: i32) -> Self {
+        let f = 2f64.powi(exponent);
+        Source {
+            a: self.a.map(|x| x * f),
+            b: self.b.map(|x| x * f),
+            h0: self.h0 * f,
+            radius: self.radius * f,
+            growth: self.growth,
+        }
+    }
+
     /// The spacing this source asks for at `p`.
     pub fn spacing(&self, p: [f64; 2]) -> f64 {
         let (dx, dy) = (self.b[0] - self.a[0], self.b[1] - self.a[1]);

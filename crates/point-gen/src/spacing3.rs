@@ -182,6 +182,20 @@ pub struct BackgroundMesh3 {
 }
 
 impl BackgroundMesh3 {
+    /// The same mesh in units `2^exponent` times larger: coordinates and spacing values
+    /// scaled (exactly, for `|exponent|` up to 1000 and ordinary values), the search grids kept.
+    pub fn scaled(&self, exponent: i32) -> Self {
+        let f = 2f64.powi(exponent);
+        BackgroundMesh3 {
+            points: self.points.iter().map(|p| p.map(|x| x * f)).collect(),
+            spacing: self.spacing.iter().map(|h| h * f).collect(),
+            lo: self.lo.map(|x| x * f),
+            hi: self.hi.map(|x| x * f),
+            inv: self.inv.map(|x| x / f),
+            ..self.clone()
+        }
+    }
+
     /// Checks the mesh and builds its search grid. Tetrahedra may be oriented either way.
     ///
     /// # Errors
@@ -677,6 +691,18 @@ pub struct Source3 {
 }
 
 impl Source3 {
+    /// The same source in units `2^exponent` times larger (growth is a ratio: unchanged).
+    pub fn scaled(&self, exponent: i32) -> Self {
+        let f = 2f64.powi(exponent);
+        Source3 {
+            a: self.a.map(|x| x * f),
+            b: self.b.map(|x| x * f),
+            h0: self.h0 * f,
+            radius: self.radius * f,
+            growth: self.growth,
+        }
+    }
+
     /// The spacing this source asks for at `p`.
     pub fn spacing(&self, p: P) -> f64 {
         let d = dist(p, nearest_on_segment(p, self.a, self.b));
