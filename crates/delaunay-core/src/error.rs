@@ -36,11 +36,9 @@ pub enum TriangulationError {
         what: &'static str,
     },
     /// A non-zero coordinate is so much smaller than the largest one that exact predicates
-    /// would underflow.
-    #[error(
-        "point {index}: coordinate {value:e} is more than 2^142 times smaller than the largest \
-         coordinate magnitude {largest:e}; exact predicates cannot handle that range"
-    )]
+    /// would underflow, or the largest magnitude itself (`value == largest`) is beyond
+    /// `2^±1000`.
+    #[error("{}", coordinate_range(*.index, *.value, *.largest))]
     CoordinateRange {
         /// Input index of the point.
         index: usize,
@@ -161,4 +159,19 @@ pub enum ValidationError {
     /// The counts of vertices, cells and hull facets violate Euler's relation.
     #[error("Euler characteristic check failed: {0}")]
     Euler(String),
+}
+
+/// The message of [`TriangulationError::CoordinateRange`].
+fn coordinate_range(index: usize, value: f64, largest: f64) -> String {
+    if value.abs() == largest {
+        format!(
+            "point {index}: coordinate magnitude {value:e} is outside the range 2^-1000 to \
+             2^1000 that exact predicates handle"
+        )
+    } else {
+        format!(
+            "point {index}: coordinate {value:e} is more than 2^142 times smaller than the \
+             largest coordinate magnitude {largest:e}; exact predicates cannot handle that range"
+        )
+    }
 }

@@ -233,6 +233,13 @@ fn bad_input_is_an_error_not_a_panic() {
 fn error_messages_name_the_point() {
     let e = Triangulation2::new(&[[0.0, 0.0], [1.0, f64::NAN], [0.0, 1.0]]).unwrap_err();
     assert_eq!(e.to_string(), "point 1: coordinate 1 is not finite (NaN)");
+    // Subnormal coordinates: the largest magnitude itself is out of range.
+    let e = Triangulation2::new(&[[0.0, 0.0], [1e-320, 0.0], [0.0, 1e-320]]).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "point 1: coordinate magnitude 1e-320 is outside the range 2^-1000 to 2^1000 that \
+         exact predicates handle"
+    );
 }
 
 #[test]
