@@ -5,7 +5,7 @@ use std::collections::HashMap;
 
 use crate::classify::OUTSIDE;
 use crate::recovery3::{cross, dot, sub, BoundaryFace, Mesh3};
-use delmesh_delaunay_core::{CellId, FacetRef, TriangulationError, VertexId};
+use delmesh_delaunay_core::{CellId, FacetRef, Renumbering, TriangulationError, VertexId};
 use delmesh_predicates::{orient3d, Sign};
 
 /// Where each boundary face of a [`Mesh3`] is in [`Mesh3::faces`], by its sorted corners: for
@@ -58,6 +58,20 @@ pub fn tet_volume(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> f64 {
 }
 
 impl Mesh3 {
+    /// Renumbers the vertices along a Hilbert curve and the cells by their smallest vertex
+    /// ([`ConstrainedTriangulation3::renumber`](delmesh_delaunay_core::ConstrainedTriangulation3::renumber)),
+    /// for memory locality after point generation, which numbers them pass by pass; spacing,
+    /// surface flags and boundary faces move with their vertices.
+    pub fn renumber(&mut self) -> Renumbering {
+        let map = self.ct.renumber();
+        self.spacing = map.permute_vertices(&self.spacing, f64::NAN);
+        self.on_surface = map.permute_vertices(&self.on_surface, false);
+        for f in &mut self.faces {
+            f.v = f.v.map(|v| map.vertex(v));
+        }
+        map
+    }
+
     /// Changes the mesh's units by `2^exponent`: vertex coordinates (see
     /// `rescale_units` of the triangulation) and spacing. False, with nothing changed, if the
     /// units would leave the range of `f64`.

@@ -66,6 +66,20 @@ impl ConstrainedTriangulation3 {
         }
     }
 
+    /// Renumbers the vertices and cells for memory locality ([`Triangulation::renumber`]);
+    /// protected faces and tags move with their cells. Vertex and cell ids from before the
+    /// call do not survive it (input indices do).
+    pub fn renumber(&mut self) -> crate::Renumbering {
+        let map = self.tri.renumber();
+        self.protected = map.permute_cells(&self.protected);
+        self.tags = map.permute_cells(&self.tags);
+        // (Scratch and the flip log of an attempt are empty between operations.)
+        self.flip_log.clear();
+        self.scratch.clear();
+        self.stars = StarSearch::default();
+        map
+    }
+
     /// Changes the caller's units by `2^exponent` ([`Triangulation::rescale_units`]).
     pub fn rescale_units(&mut self, exponent: i32) -> bool {
         self.tri.rescale_units(exponent)

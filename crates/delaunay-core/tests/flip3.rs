@@ -222,3 +222,66 @@ fn splitting_a_protected_edge_splits_its_faces_and_keeps_them_protected() {
     assert!(ct.split_edge(x, y, mid).unwrap().is_none());
     assert_eq!(ct.triangulation().num_cells(), before);
 }
+
+#[test]
+fn renumbering_keeps_protected_faces_and_tags_with_their_cells() {
+    let pts = uniform3(600, 21);
+    let mut ct = ConstrainedTriangulation3::new(Triangulation3::new(&pts).unwrap());
+    // Protect some faces and tag cells by their first vertex's input index, all in input
+    // numbering, which renumbering keeps.
+    let t = ct.triangulation();
+    let cells: Vec<_> = t.cells().collect();
+    let mut faces = BTreeSet::new();
+    for &c in cells.iter().step_by(7) {
+        let v = t.cell(c);
+        faces.insert({
+            let mut f = [v[0], v[1], v[2]].map(|u| t.input_index(u));
+            f.sort_unstable();
+            f
+        });
+    }
+    let tagged = |ct: &ConstrainedTriangulation3| {
+        let t = ct.triangulation();
+        t.cells()
+            .map(|c| {
+                let mut q: Vec<usize> = t.cell(c).iter().map(|&u| t.input_index(u)).collect();
+                q.sort_unstable();
+                (q, ct.tag(c))
+            })
+            .collect::<BTreeSet<_>>()
+    };
+    let protected = |ct: &ConstrainedTriangulation3| {
+        let t = ct.triangulation();
+        ct.protected_faces()
+            .into_iter()
+            .map(|f| {
+                let mut f = f.map(|u| t.input_index(u));
+                f.sort_unstable();
+                f
+            })
+            .collect::<BTreeSet<_>>()
+    };
+    for f in &faces {
+        let t = ct.triangulation();
+        let [a, b, c] = f.map(|i| t.vertex_of_input(i));
+        assert!(ct.protect_face(a, b, c));
+    }
+    for c in cells {
+        let first = ct
+            .triangulation()
+            .input_index(ct.triangulation().cell(c)[0]);
+        ct.set_tag(c, first as u32 % 5);
+    }
+    let (before_cells, before_tags) = (cell_set(ct.triangulation()), tagged(&ct));
+    assert_eq!(protected(&ct), faces);
+    ct.renumber();
+    assert_eq!(cell_set(ct.triangulation()), before_cells);
+    assert_eq!(tagged(&ct), before_tags);
+    assert_eq!(protected(&ct), faces);
+    assert!(ct.validate().is_ok());
+    // Flips and moves go on after it.
+    assert!(jiggle(&mut ct, 0.002, 4) > 0);
+    let flips = ct.make_delaunay(|_| true);
+    assert_eq!(protected(&ct), faces);
+    assert!(flips.left.len() <= flips.failing);
+}

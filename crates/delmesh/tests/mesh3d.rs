@@ -7,7 +7,7 @@ use std::collections::HashMap;
 
 use delmesh::geometry3;
 use delmesh::mesh3d::{mesh_plc3, MeshOptions3, MeshRun3, Restoration3};
-use delmesh::point_gen::PointGeneration3;
+use delmesh::point_gen::{PointGeneration3, RENUMBER_MIN};
 use delmesh::predicates::{orient3d, Sign};
 use delmesh::recovery::{check_surface, tet_volume, Plc3, RecoveryMethod3};
 
@@ -300,4 +300,16 @@ fn a_surface_far_from_unit_size_gives_the_unit_mesh_scaled() {
             assert_eq!(t.vertex(*v), *p, "2^{e}");
         }
     }
+}
+
+#[test]
+fn a_mesh_large_enough_to_be_renumbered_passes_the_checks() {
+    // Over `RENUMBER_MIN` elements: point generation renumbers the mesh along a Hilbert curve
+    // at the end (vertices, cells, protected faces, tags, spacing and surface flags move
+    // together), so this checks refinement, smoothing and the restoration across it.
+    let plc = geometry3::sphere_in_box(4);
+    let run = mesh_plc3(&plc, &options(0.2)).unwrap();
+    let elements = run.arrays.tets.len();
+    assert!(elements > 2 * RENUMBER_MIN, "{elements} tetrahedra");
+    check(&plc, &run, 2, true);
 }

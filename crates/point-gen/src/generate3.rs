@@ -22,7 +22,7 @@
 //! one's neighbour, and the count of points stays that of visiting the slots in order (which
 //! it was before, and which missed the cache on nearly every conflict test).
 
-use crate::PointGenError;
+use crate::{PointGenError, RENUMBER_MIN};
 use delmesh_boundary_recovery::{Mesh3, OUTSIDE};
 use delmesh_delaunay_core::{CellId, Dim, VertexId, D3};
 use rayon::prelude::*;
@@ -225,6 +225,12 @@ impl PointGeneration3 {
             if accepted == 0 {
                 break;
             }
+        }
+        // Passes number vertices and cells pass by pass, each pass along its own Hilbert
+        // curve: renumbered once along one, the later stages (output arrays, smoothing's
+        // stars, the Delaunay restoration) read neighbours near each other in memory.
+        if added > 0 && report.passes.last().map_or(0, |p| p.elements) >= RENUMBER_MIN {
+            mesh.renumber();
         }
         Ok(report)
     }
