@@ -50,6 +50,7 @@ pub use recovery3::{
     BoundaryFace, BoundaryRecovery3, Mesh3, RecoveryHistory3, RecoveryMethod3, RecoveryStep,
 };
 pub use surface::{
-    check_surface, CheckedSurface, EdgeName, Listed, PointLocation, PointOnTriangle, PolygonFacet,
-    SurfaceComponent, SurfaceEdge, SurfaceError, TriangleName, TrianglePair, VertexName,
+    check_surface, CheckedSurface, EdgeName, Junction, Listed, PointLocation, PointOnTriangle,
+    PolygonFacet, SurfaceComponent, SurfaceEdge, SurfaceError, TriangleName, TrianglePair,
+    VertexName,
 };

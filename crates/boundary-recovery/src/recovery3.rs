@@ -127,6 +127,9 @@ pub struct RecoveryHistory3 {
     pub merged_points: Vec<(u64, u64)>,
     /// Input triangles reversed to orient their closed surface consistently.
     pub reoriented_triangles: usize,
+    /// Surface edges where three or more triangles meet: internal walls between regions
+    /// (see [`crate::Junction`]).
+    pub junction_edges: usize,
     /// Surface triangles of the input.
     pub surface_faces: usize,
     /// Diagonals flipped in planar patches of the surface before recovery (the triangles of
@@ -201,6 +204,9 @@ impl fmt::Display for RecoveryHistory3 {
         row(f, "No. of surface faces:", self.surface_faces)?;
         if self.reoriented_triangles > 0 {
             row(f, "  reoriented:", self.reoriented_triangles)?;
+        }
+        if self.junction_edges > 0 {
+            row(f, "  wall junction edges:", self.junction_edges)?;
         }
         if self.planar_flips > 0 {
             row(
@@ -429,6 +435,8 @@ struct State<'a> {
     edges_checked_at: u64,
     /// Recover by flips first ([`RecoveryMethod3::Constrained`]).
     constrained: bool,
+    /// Whether some segment has more than two facets: the surface has internal walls.
+    walls: bool,
     /// Every sub-segment, by [`edge_key`]: flips never remove these edges.
     locked: HashSet<u64>,
     /// Scratch: the vertices of the cells flips changed.
@@ -629,6 +637,7 @@ impl BoundaryRecovery3 {
                     .collect()
             }),
             reoriented_triangles: checked.as_ref().map_or(0, |c| c.reoriented.len()),
+            junction_edges: checked.as_ref().map_or(0, |c| c.junctions.len()),
             planar_flips,
             ..Default::default()
         };
@@ -717,6 +726,9 @@ fn edge_key(a: VertexId, b: VertexId) -> u64 {
 
 /// Rounds of breaking flat tetrahedra on the surface (each followed by edge and face checking).
 const MAX_SLIVER_ROUNDS: usize = 1;
+
+/// A facet's domain side when the domain is on both: an internal wall between two regions.
+const BOTH_SIDES: f64 = 2.0;
 
 /// A tetrahedron on the surface with a dihedral angle under this many degrees is flat.
 const FLAT_DIHEDRAL: f64 = 1.0;
@@ -812,8 +824,12 @@ fn is_tetrahedron(
 /// The side of the domain of each surface triangle, by the nesting of the closed surfaces:
 /// just inside a surface at even depth (the far field, a hollow body's cavity wall) is domain,
 /// just inside one at odd depth (a body) is not. +1 is along the input triangle's normal
-/// (reversed for the triangles the check reoriented).
+/// (reversed for the triangles the check reoriented). None (every side unknown) for a surface
+/// with walls, which has no nesting.
 fn domain_sides(c: &CheckedSurface) -> Vec<f64> {
+    if c.has_walls() {
+        return Vec::new();
+    }
     let mut sides: Vec<f64> = c
         .triangle_component
         .iter()
@@ -948,6 +964,7 @@ impl<'a> State<'a> {
             .map(|(&s, &c)| if c > 0 { s / f64::from(c) } else { f64::NAN })
             .collect();
         let n_surface = on_surface.iter().filter(|&&s| s).count();
+        let walls = seg_facets.iter().any(|f| f.len() > 2);
         let locked = if constrained {
             segs.iter()
                 .map(|s| edge_key(s.pts[0].1, s.pts[1].1))
@@ -983,6 +1000,7 @@ impl<'a> State<'a> {
             edges_checked_at: 0,
             locked,
             constrained,
+            walls,
             flip_touched: Vec::new(),
         })
     }
@@ -1200,6 +1218,13 @@ impl<'a> State<'a> {
         sides: &[f64],
         history: &mut RecoveryHistory3,
     ) -> Result<(), RecoveryError> {
+        let by_flood_fill;
+        let sides = if self.walls && sides.is_empty() {
+            by_flood_fill = self.sides_by_flood_fill();
+            &by_flood_fill
+        } else {
+            sides
+        };
         let mut last = usize::MAX;
         for _ in 0..MAX_SLIVER_ROUNDS {
             history.flat_tetrahedra_moved_out += self.move_flat_tetrahedra_out(sides);
@@ -1221,6 +1246,68 @@ impl<'a> State<'a> {
             self.recover(history)?;
         }
         Ok(())
+    }
+
+    /// The domain's side of each facet (as `domain_sides` gives it, [`BOTH_SIDES`] for a wall
+    /// between two regions, 0 where no tetrahedron on either side is in the domain) by the
+    /// exterior deletion's rule applied to the recovered tetrahedralisation: the tetrahedra
+    /// grouped across faces that are not sub-faces, a group in the domain when the fewest
+    /// sub-faces crossed to reach it from outside is odd (hole seeds aside). For a surface with
+    /// walls, where the nesting of closed surfaces does not say which side is inside.
+    fn sides_by_flood_fill(&self) -> Vec<f64> {
+        let tri = self.ct.triangulation();
+        let sorted = |mut t: [VertexId; 3]| {
+            t.sort_unstable();
+            t
+        };
+        // Each sub-face by its sorted corners: its facet, and its corners as oriented there.
+        let mut subface: HashMap<[VertexId; 3], (u32, [VertexId; 3])> = HashMap::new();
+        for (f, fac) in self.facs.iter().enumerate() {
+            for &t in &fac.subfaces {
+                subface.insert(sorted(t), (f as u32, t));
+            }
+        }
+        let face = |c: CellId, i: usize| {
+            let v = tri.cell(c);
+            sorted([v[(i + 1) % 4], v[(i + 2) % 4], v[(i + 3) % 4]])
+        };
+        let cells: Vec<CellId> = tri.all_cells().collect();
+        let (component, depth) = crate::classify::components_by_depth(
+            &cells,
+            4,
+            |c, i| subface.contains_key(&face(c, i)),
+            |c, i| tri.neighbor_facet(c, i).cell(),
+            |c| tri.is_ghost(c),
+        );
+        // Whether a tetrahedron of the domain lies along each facet's normal, and against it.
+        let mut along = vec![false; self.facs.len()];
+        let mut against = vec![false; self.facs.len()];
+        for &c in &cells {
+            let d = depth[component[c.index()] as usize];
+            if tri.is_ghost(c) || d == u32::MAX || d % 2 == 0 {
+                continue;
+            }
+            for i in 0..4 {
+                if let Some(&(f, t)) = subface.get(&face(c, i)) {
+                    let q = [t[0], t[1], t[2], tri.cell(c)[i]].map(|v| tri.vertex(v));
+                    if orient3d(q[0], q[1], q[2], q[3]) == Sign::Positive {
+                        along[f as usize] = true;
+                    } else {
+                        against[f as usize] = true;
+                    }
+                }
+            }
+        }
+        along
+            .iter()
+            .zip(&against)
+            .map(|(&a, &b)| match (a, b) {
+                (true, true) => BOTH_SIDES,
+                (true, false) => 1.0,
+                (false, true) => -1.0,
+                (false, false) => 0.0,
+            })
+            .collect()
     }
 
     /// Edge and face checking until every sub-face is present.
@@ -1596,6 +1683,9 @@ impl<'a> State<'a> {
                     continue;
                 }
                 let on_domain_side = |t: [VertexId; 3], z: VertexId, s: f64| {
+                    if s == BOTH_SIDES {
+                        return true;
+                    }
                     let q = [t[0], t[1], t[2], z].map(|v| self.ct.triangulation().vertex(v));
                     let above = orient3d(q[0], q[1], q[2], q[3]) == Sign::Positive;
                     if above {
@@ -1625,7 +1715,8 @@ impl<'a> State<'a> {
         let mut star = std::mem::take(&mut self.star);
         for f in 0..self.facs.len() {
             let s = sides.get(f).copied().unwrap_or(0.0);
-            if s == 0.0 || self.facs[f].subfaces.len() < 2 {
+            // A wall's flat tetrahedra are in the domain on either side.
+            if s == 0.0 || s == BOTH_SIDES || self.facs[f].subfaces.len() < 2 {
                 continue;
             }
             let mut subfaces = std::mem::take(&mut self.facs[f].subfaces);

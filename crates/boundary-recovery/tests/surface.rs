@@ -111,7 +111,7 @@ fn closed_solids_pass() {
     assert_eq!(s.edges.len(), 18);
     assert_eq!(s.components[0].volume, 1.0);
     assert!(s.components[0].outward);
-    assert_eq!(s.domain_volume(), 1.0);
+    assert_eq!(s.domain_volume(), Some(1.0));
 
     let s = ok(&union(&[(TETRA_POINTS.to_vec(), TETRA.to_vec())]));
     assert_eq!(s.edges.len(), 6);
@@ -126,7 +126,7 @@ fn closed_solids_pass() {
     let s = ok(&union(&[flipped(octahedron())]));
     assert!(!s.components[0].outward);
     assert!((s.components[0].volume + 4.0 / 3.0).abs() < 1e-15);
-    assert!((s.domain_volume() - 4.0 / 3.0).abs() < 1e-15);
+    assert!((s.domain_volume().unwrap() - 4.0 / 3.0).abs() < 1e-15);
 }
 
 #[test]
@@ -168,7 +168,7 @@ fn nested_cubes_are_allowed_and_their_volumes_subtract() {
         );
         assert_eq!(s.components[0].volume, 64.0);
         assert_eq!(s.components[1].volume.abs(), 1.0);
-        assert_eq!(s.domain_volume(), 63.0);
+        assert_eq!(s.domain_volume(), Some(63.0));
     }
     // The far field (1), a hollow body (outer surface 4, inner surface 2) with a body inside
     // its cavity (0), and a body in the far field (3): 1000 − 216 + 64 − 8 − 1.
@@ -190,7 +190,7 @@ fn nested_cubes_are_allowed_and_their_volumes_subtract() {
             (1, Some(1))
         ]
     );
-    assert_eq!(s.domain_volume(), 1000.0 - 216.0 + 64.0 - 8.0 - 1.0);
+    assert_eq!(s.domain_volume(), Some(1000.0 - 216.0 + 64.0 - 8.0 - 1.0));
     assert_eq!(s.in_domain([0.5, 0.5, 0.5]), Some(true));
     assert_eq!(s.in_domain([1.5, 4.0, 4.0]), Some(false));
     assert_eq!(s.in_domain([2.5, 4.0, 4.0]), Some(true));
@@ -263,16 +263,53 @@ fn one_based_numbering_in_messages() {
 }
 
 #[test]
-fn non_manifold_edge_names_all_its_facets() {
-    // A fin on the tetrahedron: a fifth triangle on edge 0-1.
+fn a_fin_is_open() {
+    // A fifth triangle on the tetrahedron's edge 0-1: edge 0-1 is a junction, but the fin's
+    // other two edges are open.
     let mut points = TETRA_POINTS.to_vec();
     points.push([0.5, -1.0, -1.0]);
     let mut tris = TETRA.to_vec();
     tris.push([0, 1, 4]);
     assert_eq!(
         message(&Plc3::from_triangles(points, &tris)),
-        "non-manifold edges, used by more than two triangles: edge 1-0 (facets 0, 1, 4)"
+        "the surface is not closed: edges used by only one triangle: edge 4-0 (facet 4); \
+         edge 1-4 (facet 4)"
     );
+}
+
+#[test]
+fn blocks_sharing_a_face_or_an_edge_have_walls() {
+    // Two unit cubes side by side, the wall x = 1 given once: its four sides are junctions of
+    // three triangles (the two cubes' outer faces and the wall).
+    let mut plc = union(&[cube([0.0; 3], 1.0), cube([1.0, 0.0, 0.0], 1.0)]);
+    plc.triangles.drain(20..22);
+    let s = ok(&plc);
+    assert!(s.has_walls());
+    assert_eq!(s.junctions.len(), 4);
+    assert!(s.junctions.iter().all(|j| j.triangles.len() == 3));
+    assert_eq!(s.edges.len(), 31 - 4);
+    assert_eq!(s.components.len(), 1);
+    assert!(s.components[0].walls);
+    assert_eq!(s.domain_volume(), None);
+    assert_eq!(s.in_domain([0.5; 3]), None);
+    assert_eq!(
+        s.locate([0.5; 3]),
+        Some(PointLocation::Enclosed { components: vec![] })
+    );
+    // Two cubes sharing one edge: four triangles on it.
+    let s = ok(&union(&[cube([0.0; 3], 1.0), cube([1.0, 1.0, 0.0], 1.0)]));
+    assert_eq!(s.junctions.len(), 1);
+    assert_eq!(s.junctions[0].triangles.len(), 4);
+    // A cube without walls beside them keeps its volume.
+    let mut plc = union(&[
+        cube([0.0; 3], 1.0),
+        cube([1.0, 0.0, 0.0], 1.0),
+        cube([5.0; 3], 1.0),
+    ]);
+    plc.triangles.drain(20..22);
+    let s = ok(&plc);
+    assert_eq!((s.components.len(), s.components[1].walls), (2, false));
+    assert_eq!(s.components[1].volume, 1.0);
 }
 
 #[test]
@@ -808,7 +845,7 @@ proptest! {
         outer.triangles.extend(Plc3::from_triangles(vec![], &hull.iter().map(|t| t.map(|x| x + base)).collect::<Vec<_>>()).triangles);
         let s = check_surface(&outer).unwrap();
         prop_assert_eq!(s.components[1].parent, Some(0));
-        prop_assert!((s.domain_volume() - (27.0 - tets)).abs() < 1e-12);
+        prop_assert!((s.domain_volume().unwrap() - (27.0 - tets)).abs() < 1e-12);
     }
 
     #[test]
@@ -1068,7 +1105,7 @@ fn small_spheres_nest() {
     let s = ok(&plc);
     assert_eq!(s.components[1].parent, Some(0));
     assert!(s.components.iter().all(|c| c.outward));
-    let v = s.domain_volume();
+    let v = s.domain_volume().unwrap();
     assert!(v > 0.0 && v < 4.0 / 3.0 * std::f64::consts::PI * 7.0);
 }
 

@@ -119,6 +119,11 @@ pub const DEMOS: &[Demo] = &[
         name: "two-bodies",
         summary: "3D: a sphere and an ellipsoid in a box, automatic field points",
     },
+    Demo {
+        name: "blocks",
+        summary: "3D: three cubes sharing internal walls, a region each (several materials), \
+                  automatic field points",
+    },
 ];
 
 /// The paper's Table 2 (double ellipsoid): `(row, value)` in the paper's order.
@@ -205,7 +210,9 @@ pub fn run(name: &str, dir: &Path) -> Result<DemoOutput, Error> {
                 mesh3: None,
             })
         }
-        "table2" | "figure9" | "sphere" | "cubic-hole" | "two-bodies" => mesh3_demo(name, dir),
+        "table2" | "figure9" | "sphere" | "cubic-hole" | "two-bodies" | "blocks" => {
+            mesh3_demo(name, dir)
+        }
         _ => mesh_demo(name, dir),
     }
 }
@@ -330,6 +337,7 @@ pub fn mesh3_demo_setup(name: &str) -> Result<(Plc3, MeshOptions3), Error> {
         "sphere" => geometry3::sphere_in_box(8),
         "cubic-hole" => geometry3::cube_with_cubic_hole(10),
         "two-bodies" => geometry3::two_bodies(6),
+        "blocks" => geometry3::blocks(3, 8),
         _ => {
             return Err(Error::UnknownDemo {
                 name: name.to_string(),

@@ -24,7 +24,8 @@
 //!   triangulation of each side), instead of a tie-break choosing the other diagonal of a
 //!   square.
 //! - **Holes** come from nesting (a body's inside is not domain); [`cube_with_cubic_hole`] also
-//!   gives an explicit hole seed. No point markers, no regions.
+//!   gives an explicit hole seed. No point markers; regions only in [`blocks`], whose cubes
+//!   share walls.
 //!
 //! | function | markers |
 //! | --- | --- |
@@ -32,6 +33,7 @@
 //! | [`sphere_in_box`] | 1 box, 2 sphere |
 //! | [`cube_with_cubic_hole`] | 1 outer cube, 2 inner cube (the hole) |
 //! | [`two_bodies`] | 1 box, 2 sphere, 3 ellipsoid |
+//! | [`blocks`] | 1 outer surface, 2 internal walls |
 
 use std::collections::HashMap;
 use std::f64::consts::PI;
@@ -883,6 +885,53 @@ pub fn two_bodies(n: usize) -> Plc3 {
     box_surface(lo, hi, divisions_for(lo, hi, 8.0 * h), 1).append_to(&mut plc);
     icosphere([-1.0, 0.0, 0.0], 0.5, n, 2).append_to(&mut plc);
     ellipsoid([1.1, 0.0, 0.0], [0.7, 0.35, 0.35], h, 3).append_to(&mut plc);
+    plc
+}
+
+/// `count` unit cubes in a row along `x` (`[k, k + 1] × [0, 1]²`), each a region of its own
+/// (a seed at its centre with attribute `k + 1`), separated by internal walls at `x = 1, 2,
+/// ...` given once: where a wall meets the outer surface, three triangles share an edge. Each
+/// cube is a [`box_surface`] with `n` divisions per edge; the walls are its `x = lo` sides.
+/// Several materials sharing faces (a solid and the fluid around it, for conjugate heat
+/// transfer) come to the mesher like this.
+///
+/// Markers: 1 outer surface, 2 walls.
+pub fn blocks(count: usize, n: usize) -> Plc3 {
+    let mut plc = Plc3::default();
+    let mut index: HashMap<[u64; 3], u32> = HashMap::new();
+    for k in 0..count.max(1) {
+        let x = k as f64;
+        let cube = box_surface([x, 0.0, 0.0], [x + 1.0, 1.0, 1.0], [n; 3], 1);
+        // The cube's points, shared with the previous cube's on the wall between them.
+        let id: Vec<u32> = cube
+            .points
+            .iter()
+            .map(|p| {
+                *index.entry(p.map(f64::to_bits)).or_insert_with(|| {
+                    plc.points.push(*p);
+                    (plc.points.len() - 1) as u32
+                })
+            })
+            .collect();
+        let facet_base = 6 * k as u32;
+        for t in &cube.triangles {
+            // Side 1 (`x = hi`) is the next cube's wall, given by that cube as its side 0.
+            let (wall, last) = (k > 0 && t.facet == 0, k + 1 == count.max(1));
+            if t.facet == 1 && !last {
+                continue;
+            }
+            plc.triangles.push(SurfaceTriangle {
+                v: t.v.map(|v| id[v as usize]),
+                marker: if wall { 2 } else { t.marker },
+                facet: facet_base + t.facet,
+            });
+        }
+        plc.regions.push(delmesh_boundary_recovery::RegionSeed3 {
+            point: [x + 0.5, 0.5, 0.5],
+            attribute: (k + 1) as f64,
+            max_volume: None,
+        });
+    }
     plc
 }
 

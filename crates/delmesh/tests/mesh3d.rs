@@ -25,6 +25,15 @@ fn area(p: [[f64; 3]; 3]) -> f64 {
 /// Every property an output mesh must have; `chi` is the Euler characteristic of the solid
 /// (1 for a ball, 1 + k for a ball with k cavities).
 fn check(plc: &Plc3, run: &MeshRun3, chi: i64, delaunay: bool) {
+    let enclosed = check_surface(plc)
+        .unwrap()
+        .domain_volume()
+        .expect("a surface without walls");
+    check_enclosing(plc, run, chi, delaunay, enclosed);
+}
+
+/// [`check`] for a given enclosed volume (a surface with walls has no nesting parity).
+fn check_enclosing(plc: &Plc3, run: &MeshRun3, chi: i64, delaunay: bool, enclosed: f64) {
     let a = &run.arrays;
     let mut volume = 0.0;
     for t in &a.tets {
@@ -32,7 +41,6 @@ fn check(plc: &Plc3, run: &MeshRun3, chi: i64, delaunay: bool) {
         assert_eq!(orient3d(p[0], p[1], p[2], p[3]), Sign::Positive, "{t:?}");
         volume += tet_volume(p[0], p[1], p[2], p[3]);
     }
-    let enclosed = check_surface(plc).unwrap().domain_volume();
     assert!(
         (volume - enclosed).abs() <= 1e-9 * enclosed,
         "volume {volume}, enclosed {enclosed}"
@@ -109,6 +117,61 @@ fn cube_with_a_cubic_hole_by_nesting_and_seed() {
     let plc = geometry3::cube_with_cubic_hole(4);
     let run = mesh_plc3(&plc, &options(1.0)).unwrap();
     check(&plc, &run, 2, true);
+}
+
+#[test]
+fn blocks_sharing_walls_are_meshed_region_by_region() {
+    // Three unit cubes in a row, each its own region: every tetrahedron has its cube's
+    // attribute and lies in it, each cube's volume is 1, and the walls are covered from both
+    // sides (every facet, walls included, is the union of its boundary triangles).
+    let plc = geometry3::blocks(3, 4);
+    for recovery in [
+        RecoveryMethod3::Conforming,
+        RecoveryMethod3::APriori,
+        RecoveryMethod3::Constrained,
+    ] {
+        let run = mesh_plc3(
+            &plc,
+            &MeshOptions3 {
+                recovery,
+                ..options(1.0)
+            },
+        )
+        .unwrap_or_else(|e| panic!("{recovery:?}: {e}"));
+        // Each wall meets the outer surface along 4 sides of 4 edges.
+        assert_eq!(run.recovery.junction_edges, 32, "{recovery:?}");
+        check_enclosing(&plc, &run, 1, true, 3.0);
+        let a = &run.arrays;
+        let mut volume = [0.0f64; 3];
+        for (t, &r) in a.tets.iter().zip(&a.regions) {
+            let p = t.map(|i| a.coords[i as usize]);
+            let k = r as usize - 1;
+            let centre = (p[0][0] + p[1][0] + p[2][0] + p[3][0]) / 4.0;
+            assert!(
+                centre > k as f64 && centre < (k + 1) as f64,
+                "{recovery:?}: {t:?} in {r}"
+            );
+            volume[k] += tet_volume(p[0], p[1], p[2], p[3]);
+        }
+        for v in volume {
+            assert!((v - 1.0).abs() < 1e-12, "{recovery:?}: {volume:?}");
+        }
+        // The two walls (marker 2) are in the boundary triangles once each.
+        let wall_area: f64 = a
+            .faces
+            .iter()
+            .zip(&a.face_markers)
+            .filter(|x| *x.1 == 2)
+            .map(|(t, _)| area(t.map(|i| a.coords[i as usize])))
+            .sum();
+        assert!((wall_area - 2.0).abs() < 1e-12, "{recovery:?}: {wall_area}");
+    }
+    // A body inside a block is a hole by nesting, as without walls: two surfaces are crossed
+    // to reach its inside.
+    let mut plc = geometry3::blocks(2, 4);
+    geometry3::box_surface([0.1; 3], [0.3; 3], [2; 3], 3).append_to(&mut plc);
+    let run = mesh_plc3(&plc, &options(1.0)).unwrap();
+    check_enclosing(&plc, &run, 2, true, 2.0 - 0.008);
 }
 
 #[test]

@@ -7,7 +7,7 @@ use super::error::{
 };
 use super::intersect::{collinear, intersecting_pairs, points_on_triangles, triangle_box, P};
 use super::volume::{signed_volume, wind, Surface, Winding};
-use super::{CheckedSurface, SurfaceComponent, SurfaceEdge};
+use super::{CheckedSurface, Junction, SurfaceComponent, SurfaceEdge};
 use crate::plc3::{Plc3, SurfaceTriangle};
 use delmesh_predicates::{Sign, COORDINATE_RANGE};
 
@@ -94,15 +94,19 @@ pub(crate) fn scaled_points(points: &[P], base: u64) -> Result<(f64, Vec<P>), Su
 ///    condition is meant?), and a copy with the opposite orientation is a zero-thickness wall,
 ///    which changes the domain. Silently dropping them could hide either, and exporters that
 ///    write a triangle twice are rare enough that saying so is better;
-/// 5. every edge is used by exactly two triangles (non-manifold edges and open boundaries are
-///    errors listing the edges and their facets) that traverse it in opposite directions.
-///    Where two traverse it the same way, triangles are reversed (the fewer of each closed
-///    surface, listed in [`CheckedSurface::reoriented`]) until none do: CAD meshers orient
-///    each patch by its own parametrisation (gmsh does), and the orientation carries nothing
-///    the surface needs, since that of each closed surface as a whole is free. Only a
-///    one-sided surface cannot be so oriented (an error naming the edges, as given);
-/// 6. the triangles around each point form a single fan: two sheets touching at a point are an
-///    error (found with a union–find over triangle corners across edges);
+/// 5. every edge is used by at least two triangles: an edge of one triangle only is an open
+///    boundary, an error listing the edges and their facets. An edge of three or more
+///    triangles is a [`Junction`]: where an internal wall between two regions of the domain
+///    meets other walls or the outer surface (two blocks sharing a face, as TetGen and gmsh
+///    accept for several materials). An edge of two triangles must be traversed in opposite
+///    directions. Where two traverse it the same way, triangles are reversed (the fewer of each
+///    sheet joined across such edges, listed in [`CheckedSurface::reoriented`]) until none do:
+///    CAD meshers orient each patch by its own parametrisation (gmsh does), and the orientation
+///    carries nothing the surface needs, since that of each closed surface as a whole is free.
+///    Only a one-sided surface cannot be so oriented (an error naming the edges, as given);
+/// 6. the triangles around each point form a single fan: two sheets touching at a point only
+///    are an error (found with a union–find over triangle corners across edges, junctions
+///    included);
 /// 7. no point lies on a triangle it is not a corner of, and no two triangles intersect other
 ///    than in what they share, decided exactly (`orient3d`/`orient2d`, no tolerance) for the
 ///    pairs whose bounding boxes overlap (found through a bounding-volume hierarchy): triangles with no
@@ -110,7 +114,7 @@ pub(crate) fn scaled_points(points: &[P], base: u64) -> Result<(f64, Vec<P>), Su
 ///    included); triangles sharing a corner must not meet beyond it (their cones at that
 ///    corner are compared); triangles sharing an edge must not fold onto each other (coplanar
 ///    with their third corners on the same side of the edge);
-/// 8. each connected component (a closed surface) gets its signed volume
+/// 8. each connected component without junctions (a closed surface) gets its signed volume
 ///    `Σ det(a − o, b − o, c − o) / 6` (divergence theorem; `o` the middle of its bounding box;
 ///    compensated summation). Its sign, the orientation, is certified by a rigorous error
 ///    bound, and recomputed with exact floating-point expansions when the bound cannot tell
@@ -128,6 +132,12 @@ pub(crate) fn scaled_points(points: &[P], base: u64) -> Result<(f64, Vec<P>), Su
 /// no retry. A component's depth is the number of components around it; the domain (without
 /// hole seeds) is what lies inside an odd number of surfaces:
 /// [`CheckedSurface::domain_volume`].
+///
+/// **Walls.** A surface with junctions bounds several regions, and a ray crossing a wall
+/// passes from one region of the domain to another, not out of it: neither volumes nor nesting
+/// are computed for it ([`CheckedSurface::has_walls`]). The mesher's flood fill decides, on the
+/// tetrahedra, with the same rule: a region is in the domain when the fewest surfaces crossed
+/// to reach it from outside is odd.
 ///
 /// # Errors
 /// The first failing stage's [`SurfaceError`], listing its offenders.
@@ -286,9 +296,11 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
     // A second pass runs after triangles were reoriented.
     let mut reoriented: Option<Vec<u32>> = None;
     let nv = points.len();
+    let mut junctions: Vec<Junction> = Vec::new();
     let edges = loop {
         let (start, mut uses) = edge_uses(&tv, nv);
-        let (mut open, mut non_manifold, mut flipped) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut open, mut flipped) = (Vec::new(), Vec::new());
+        junctions.clear();
         // The triangles on each side of each manifold edge, and whether both traverse it the
         // same way.
         let mut pairs = Vec::with_capacity(uses.len() / 2);
@@ -317,14 +329,12 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
                             });
                         }
                     }
-                    _ => non_manifold.push((group[0].1, edge_name(lo, group))),
+                    _ => junctions.push(Junction {
+                        v: [lo, group[0].0],
+                        triangles: group.iter().map(|g| g.1).collect(),
+                    }),
                 }
             }
-        }
-        if !non_manifold.is_empty() {
-            return Err(SurfaceError::NonManifoldEdges {
-                edges: listed(non_manifold),
-            });
         }
         if !open.is_empty() {
             return Err(SurfaceError::OpenEdges {
@@ -367,6 +377,14 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
             fans.union(corner(t1, v), corner(t2, v));
         }
         parts.union(t1, t2);
+    }
+    for j in &junctions {
+        for &t in &j.triangles[1..] {
+            for v in j.v {
+                fans.union(corner(j.triangles[0], v), corner(t, v));
+            }
+            parts.union(j.triangles[0], t);
+        }
     }
     // A point is pinched when its corners have more than one root.
     let mut root_at = vec![u32::MAX; nv];
@@ -454,9 +472,25 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
         members[id_of_root[r] as usize].push(t);
     }
     let unscale = 1.0 / scale;
+    let mut walled = vec![false; members.len()];
+    for j in &junctions {
+        walled[triangle_component[j.triangles[0] as usize] as usize] = true;
+    }
     let mut components: Vec<SurfaceComponent> = members
         .into_iter()
-        .map(|tris| {
+        .zip(walled)
+        .map(|(tris, walls)| {
+            if walls {
+                // Several regions: no one enclosed volume (see `SurfaceComponent::walls`).
+                return SurfaceComponent {
+                    triangles: tris,
+                    volume: 0.0,
+                    outward: false,
+                    depth: 0,
+                    parent: None,
+                    walls,
+                };
+            }
             let own: Vec<[u32; 3]> = tris.iter().map(|&t| tv[t as usize]).collect();
             let (v, sign) = signed_volume(&spts, &own);
             debug_assert!(sign != Sign::Zero, "a closed embedded surface has volume");
@@ -466,32 +500,36 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
                 outward: sign == Sign::Positive,
                 depth: 0,
                 parent: None,
+                walls,
             }
         })
         .collect();
 
     // Nesting: the components are disjoint closed surfaces, so one is inside another iff any
-    // of its points is.
-    let surface = Surface {
-        pts: &spts,
-        tris: &tv,
-        component: &triangle_component,
-    };
-    let mut winding = Winding::new(components.len());
-    let containers: Vec<Vec<u32>> = (0..components.len())
-        .map(|c| {
-            let probe = spts[tv[components[c].triangles[0] as usize][0] as usize];
-            let on = wind(surface, &boxes, c as u32, probe, false, &mut winding);
-            debug_assert!(on.is_none(), "components are disjoint");
-            winding.take_nonzero()
-        })
-        .collect();
-    for (c, around) in containers.iter().enumerate() {
-        components[c].depth = around.len() as u32;
-        components[c].parent = around
-            .iter()
-            .copied()
-            .max_by_key(|&p| containers[p as usize].len());
+    // of its points is. A surface with walls has no winding number: its nesting is left to
+    // the flood fill of the mesh.
+    if junctions.is_empty() {
+        let surface = Surface {
+            pts: &spts,
+            tris: &tv,
+            component: &triangle_component,
+        };
+        let mut winding = Winding::new(components.len());
+        let containers: Vec<Vec<u32>> = (0..components.len())
+            .map(|c| {
+                let probe = spts[tv[components[c].triangles[0] as usize][0] as usize];
+                let on = wind(surface, &boxes, c as u32, probe, false, &mut winding);
+                debug_assert!(on.is_none(), "components are disjoint");
+                winding.take_nonzero()
+            })
+            .collect();
+        for (c, around) in containers.iter().enumerate() {
+            components[c].depth = around.len() as u32;
+            components[c].parent = around
+                .iter()
+                .copied()
+                .max_by_key(|&p| containers[p as usize].len());
+        }
     }
 
     let triangles = plc
@@ -512,6 +550,7 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
         reoriented,
         triangles,
         edges,
+        junctions,
         triangle_component,
         components,
         first_index: plc.first_index,

@@ -219,12 +219,6 @@ pub enum SurfaceError {
         /// Each duplicate with the first triangle it repeats.
         pairs: Listed<TrianglePair>,
     },
-    /// Edges used by more than two triangles.
-    #[error("non-manifold edges, used by more than two triangles: {edges}")]
-    NonManifoldEdges {
-        /// The edges and their facets.
-        edges: Listed<EdgeName>,
-    },
     /// No triangle at all: nothing encloses a domain.
     #[error(
         "the surface has no triangles ({points} points): nothing encloses a domain (files of \

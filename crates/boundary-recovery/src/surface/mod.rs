@@ -40,20 +40,33 @@ pub struct SurfaceEdge {
     pub triangles: [u32; 2],
 }
 
+/// An edge where three or more surface triangles meet: internal walls between regions of the
+/// domain join each other or the outer surface there.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Junction {
+    /// The end points (indices into [`CheckedSurface::points`]), `v[0] < v[1]`.
+    pub v: [u32; 2],
+    /// The triangles on it (indices into [`CheckedSurface::triangles`]), in input order.
+    pub triangles: Vec<u32>,
+}
+
 /// One closed surface (a connected component of the triangles, joined across edges).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SurfaceComponent {
     /// Its triangles (indices into [`CheckedSurface::triangles`]), in input order.
     pub triangles: Vec<u32>,
     /// The enclosed volume, positive when the triangles are oriented outward (counter-clockwise
-    /// seen from outside), negative when inward.
+    /// seen from outside), negative when inward; 0 for a component with walls.
     pub volume: f64,
     /// Whether the triangles face outward (the sign of `volume`, certified exactly).
     pub outward: bool,
-    /// How many other components enclose this one.
+    /// How many other components enclose this one (0 for all when the surface has walls).
     pub depth: u32,
-    /// The innermost component enclosing this one.
+    /// The innermost component enclosing this one (`None` for all when the surface has walls).
     pub parent: Option<u32>,
+    /// Whether it has [`Junction`]s: internal walls split what it encloses into several
+    /// regions, so it has no one volume, orientation or inside.
+    pub walls: bool,
 }
 
 /// Where a point lies relative to a checked surface ([`CheckedSurface::locate`]).
@@ -64,7 +77,8 @@ pub enum PointLocation {
         /// The triangle (index into [`CheckedSurface::triangles`]).
         triangle: u32,
     },
-    /// Off the surface, inside these components (sorted; empty: outside all).
+    /// Off the surface, inside these components (sorted; empty: outside all). Components
+    /// with walls have no inside and are never listed.
     Enclosed {
         /// The enclosing components.
         components: Vec<u32>,
@@ -72,8 +86,9 @@ pub enum PointLocation {
 }
 
 /// A surface that passed [`check_surface`]: closed, consistently oriented (triangles reversed
-/// where needed), manifold and free of
-/// self-intersections; with its edges, closed components, volumes and nesting.
+/// where needed), free of self-intersections, with internal walls allowed (edges of three or
+/// more triangles: [`Junction`]s); with its edges, closed components, and, when it has no
+/// walls, their volumes and nesting.
 #[derive(Clone, Debug)]
 pub struct CheckedSurface {
     /// The distinct input points (duplicates merged), in the order of their first occurrence.
@@ -90,8 +105,10 @@ pub struct CheckedSurface {
     /// The triangles, in input order, with corners indexing [`CheckedSurface::points`]
     /// (reversed for those in [`CheckedSurface::reoriented`]).
     pub triangles: Vec<SurfaceTriangle>,
-    /// Every edge once, sorted by its end points.
+    /// Every edge of two triangles once, sorted by its end points.
     pub edges: Vec<SurfaceEdge>,
+    /// Every edge of three or more triangles once, sorted by its end points.
+    pub junctions: Vec<Junction>,
     /// The component of each triangle.
     pub triangle_component: Vec<u32>,
     /// The closed surfaces, numbered in the order of their first triangle.
@@ -114,9 +131,14 @@ impl CheckedSurface {
     /// add their volume, those at odd depth (bodies, the material of a hollow body) subtract
     /// theirs: `Σ ±|volume|`. With hole seeds (or region seeds that should keep a body's
     /// inside) the caller decides which nested regions to keep, with
-    /// [`CheckedSurface::locate`] telling which surfaces enclose each seed.
-    pub fn domain_volume(&self) -> f64 {
-        self.components
+    /// [`CheckedSurface::locate`] telling which surfaces enclose each seed. `None` for a
+    /// surface with walls, which has no nesting parity (the volume is then the mesh's).
+    pub fn domain_volume(&self) -> Option<f64> {
+        if self.has_walls() {
+            return None;
+        }
+        let volume = self
+            .components
             .iter()
             .map(|c| {
                 if c.depth % 2 == 0 {
@@ -125,7 +147,14 @@ impl CheckedSurface {
                     -c.volume.abs()
                 }
             })
-            .sum()
+            .sum();
+        Some(volume)
+    }
+
+    /// Whether the surface has internal walls ([`Junction`]s): regions of the domain meet
+    /// there, and nesting parity does not say which side of a triangle is inside.
+    pub fn has_walls(&self) -> bool {
+        !self.junctions.is_empty()
     }
 
     /// Where the point lies: on the surface (which triangle), or which components enclose it;
@@ -152,15 +181,18 @@ impl CheckedSurface {
         if let Some(t) = wind(surface, &self.boxes, u32::MAX, q, true, &mut winding) {
             return Some(PointLocation::OnSurface { triangle: t });
         }
-        Some(PointLocation::Enclosed {
-            components: winding.take_nonzero(),
-        })
+        let mut components = winding.take_nonzero();
+        components.retain(|&c| !self.components[c as usize].walls);
+        Some(PointLocation::Enclosed { components })
     }
 
     /// Whether the point is in the domain by nesting parity (inside an odd number of
-    /// surfaces, as [`CheckedSurface::domain_volume`] counts); `None` on the surface or for a
-    /// point [`CheckedSurface::locate`] cannot take.
+    /// surfaces, as [`CheckedSurface::domain_volume`] counts); `None` on the surface, for a
+    /// point [`CheckedSurface::locate`] cannot take, or on a surface with walls.
     pub fn in_domain(&self, p: [f64; 3]) -> Option<bool> {
+        if self.has_walls() {
+            return None;
+        }
         match self.locate(p)? {
             PointLocation::OnSurface { .. } => None,
             PointLocation::Enclosed { components } => Some(components.len() % 2 == 1),
