@@ -899,8 +899,10 @@ pub fn two_bodies(n: usize) -> Plc3 {
 pub fn blocks(count: usize, n: usize) -> Plc3 {
     let mut plc = Plc3::default();
     let mut index: HashMap<[u64; 3], u32> = HashMap::new();
-    for k in 0..count.max(1) {
+    let count = count.max(1);
+    for k in 0..count {
         let x = k as f64;
+        let last = k + 1 == count;
         let cube = box_surface([x, 0.0, 0.0], [x + 1.0, 1.0, 1.0], [n; 3], 1);
         // The cube's points, shared with the previous cube's on the wall between them.
         let id: Vec<u32> = cube
@@ -916,10 +918,10 @@ pub fn blocks(count: usize, n: usize) -> Plc3 {
         let facet_base = 6 * k as u32;
         for t in &cube.triangles {
             // Side 1 (`x = hi`) is the next cube's wall, given by that cube as its side 0.
-            let (wall, last) = (k > 0 && t.facet == 0, k + 1 == count.max(1));
             if t.facet == 1 && !last {
                 continue;
             }
+            let wall = k > 0 && t.facet == 0;
             plc.triangles.push(SurfaceTriangle {
                 v: t.v.map(|v| id[v as usize]),
                 marker: if wall { 2 } else { t.marker },
