@@ -172,14 +172,18 @@ impl Mesh3 {
     }
 
     /// Takes out of the domain every element that lies flat on the surface, and returns how
-    /// many: two of its faces are boundary faces of one input facet with the exterior beyond
-    /// both, so its four corners lie in that facet's plane (to the rounding of points added
-    /// on it; its volume is at most 2^-30 of its longest edge cubed), and the quadrilateral
-    /// they make is convex (exact orientations about the facet's normal). Its two other faces
-    /// become the boundary faces there: the facet's diagonal is swapped, the facet covered as
-    /// before. Splits of surface edges (recovery, restoration) leave such elements, with
-    /// dihedral angles of 0° and 180°, that no move of interior points mends. Faces between
-    /// two regions are left alone.
+    /// many: two of its faces are boundary faces with the exterior beyond both, of one input
+    /// facet or of two facets with one marker, and its four corners lie in one plane to
+    /// rounding (its volume is at most 2^-30 of its longest edge cubed), and the
+    /// quadrilateral they make is convex (exact orientations about the faces' normal). Its two
+    /// other faces become the boundary faces there: the diagonal is swapped. Within one facet
+    /// the facet is covered as before. Across two facets, the surface moves by the element's
+    /// volume (rounding): those are nearly coplanar neighbours, such as the triangles of a
+    /// planar face of a CAD part rotated into a general position, whose corners rounding put
+    /// a hair off one plane (each new face is counted in one of the two facets). Splits of
+    /// surface edges (recovery, restoration) and such neighbours leave elements with dihedral
+    /// angles of 0° and 180° and a volume whose floating-point sign is noise, that no move of
+    /// interior points mends. Faces between two regions are left alone.
     pub fn remove_flat_surface_elements(&mut self) -> usize {
         // Elements with two protected faces, the only ones that can be; an element taken out
         // makes its neighbours across its two other faces candidates.
@@ -234,7 +238,10 @@ impl Mesh3 {
         let (Some(&f1), Some(&f2)) = (index.0.get(&face(i)), index.0.get(&face(j))) else {
             return false;
         };
-        if self.faces[f1].facet != self.faces[f2].facet {
+        // Faces of two facets must have one marker, or the line where markers meet would move.
+        if self.faces[f1].facet != self.faces[f2].facet
+            && self.faces[f1].marker != self.faces[f2].marker
+        {
             return false;
         }
         // Face f1 holds v[j] (its corner off the shared edge), f2 holds v[i]. Rotate f1 to

@@ -847,8 +847,12 @@ proptest! {
 
 /// The pyramid of [`an_element_lying_flat_on_a_facet_is_taken_out`] (points `p q r s` and
 /// apex `e`, its triangles), recovered, then the edge `r s` flipped in: the flat element
-/// `p q r s` lies on the two base triangles, of one facet (`one_facet`) or of two.
-fn pyramid_with_a_flat_element(one_facet: bool) -> (Mesh3, [[f64; 3]; 5], [[u32; 3]; 6]) {
+/// `p q r s` lies on the two base triangles, of one facet (`one_facet`) or of two, with one
+/// marker (`one_marker`) or two.
+fn pyramid_with_a_flat_element(
+    one_facet: bool,
+    one_marker: bool,
+) -> (Mesh3, [[f64; 3]; 5], [[u32; 3]; 6]) {
     let points = [
         [1.0, -0.5, 0.0],
         [1.0, 0.5, 0.0],
@@ -871,7 +875,7 @@ fn pyramid_with_a_flat_element(one_facet: bool) -> (Mesh3, [[f64; 3]; 5], [[u32;
             .enumerate()
             .map(|(k, &v)| SurfaceTriangle {
                 v,
-                marker: 1,
+                marker: if one_marker || k > 0 { 1 } else { 2 },
                 facet: if one_facet { k.saturating_sub(1) } else { k } as u32,
             })
             .collect(),
@@ -909,12 +913,16 @@ fn flat_elements(mesh: &Mesh3) -> usize {
 /// 10^-12 off the plane: after recovery, a 2-3 flip making the edge `r s` (as Delaunay
 /// restoration flips near the surface do) leaves the flat element `p q r s` lying on both base
 /// triangles. Taking it out swaps the base's diagonal, keeps the volume and covers the base as
-/// before. Where the two triangles are two facets, it stays (the surface would move).
+/// before. Where the two triangles are two facets of one marker it goes too (the surface moves
+/// by its volume); where they have two markers, it stays (the line between them would move).
 #[test]
 fn an_element_lying_flat_on_a_facet_is_taken_out() {
-    let (mut two, _, _) = pyramid_with_a_flat_element(false);
+    let (mut two, _, _) = pyramid_with_a_flat_element(false, false);
     assert_eq!(two.remove_flat_surface_elements(), 0);
-    let (mut mesh, points, tris) = pyramid_with_a_flat_element(true);
+    let (mut two, _, _) = pyramid_with_a_flat_element(false, true);
+    assert_eq!(two.remove_flat_surface_elements(), 1);
+    assert_eq!(flat_elements(&two), 0);
+    let (mut mesh, points, tris) = pyramid_with_a_flat_element(true, true);
     let volume = enclosed_volume(&points, &tris);
     assert_eq!(mesh.remove_flat_surface_elements(), 1);
     assert_eq!(flat_elements(&mesh), 0);

@@ -9,7 +9,7 @@ use delmesh::geometry3;
 use delmesh::mesh3d::{mesh_plc3, MeshOptions3, MeshRun3, Restoration3};
 use delmesh::point_gen::{PointGeneration3, RENUMBER_MIN};
 use delmesh::predicates::{orient3d, Sign};
-use delmesh::recovery::{check_surface, tet_volume, Plc3, RecoveryMethod3};
+use delmesh::recovery::{check_surface, tet_volume, Plc3, RecoveryMethod3, SurfaceTriangle};
 
 fn area(p: [[f64; 3]; 3]) -> f64 {
     let u = [0, 1, 2].map(|k| p[1][k] - p[0][k]);
@@ -172,6 +172,143 @@ fn blocks_sharing_walls_are_meshed_region_by_region() {
     geometry3::box_surface([0.1; 3], [0.3; 3], [2; 3], 3).append_to(&mut plc);
     let run = mesh_plc3(&plc, &options(1.0)).unwrap();
     check_enclosing(&plc, &run, 2, true, 2.0 - 0.008);
+}
+
+#[test]
+fn a_rotated_box_of_one_facet_per_triangle_keeps_no_flat_element_on_its_sides() {
+    // A box whose sides are split into triangles, each its own facet (as an STL or OFF file
+    // of a CAD part gives them), turned into a general position: rounding puts the corners of
+    // neighbouring triangles of a side a hair off one plane, and four of them made elements
+    // of no volume (0° dihedral angles, a floating-point volume of either sign) with two
+    // boundary faces. The whole pipeline takes those out across facets of one marker; the
+    // volume and each side's area stay. (A mesh of the surface points alone keeps them.)
+    let (a, b) = (0.7f64, 1.9f64);
+    let turn = |p: [f64; 3]| {
+        let (x, y) = (
+            p[0] * a.cos() - p[1] * a.sin(),
+            p[0] * a.sin() + p[1] * a.cos(),
+        );
+        let (y, z) = (y * b.cos() - p[2] * b.sin(), y * b.sin() + p[2] * b.cos());
+        [x + 10.0, y - 3.0, z + 1.0]
+    };
+    // The box [0, 1] x [0, 2] x [0, 3] on a lattice of 1/4, each square split by a diagonal
+    // (four co-circular corners): sides x = 0, x = 1, y = 0, y = 2, z = 0, z = 3.
+    let n = [4usize, 8, 12];
+    let mut plc = Plc3::default();
+    let mut sides = Vec::new();
+    let mut index: HashMap<[usize; 3], u32> = HashMap::new();
+    for axis in 0..3 {
+        let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+        for high in [false, true] {
+            let mut point = |i: usize, j: usize| {
+                let mut q = [0; 3];
+                q[axis] = if high { n[axis] } else { 0 };
+                (q[u], q[w]) = (i, j);
+                *index.entry(q).or_insert_with(|| {
+                    plc.points.push(turn(q.map(|x| x as f64 * 0.25)));
+                    plc.points.len() as u32 - 1
+                })
+            };
+            let mut quads = Vec::new();
+            for i in 0..n[u] {
+                for j in 0..n[w] {
+                    quads.push([
+                        point(i, j),
+                        point(i + 1, j),
+                        point(i + 1, j + 1),
+                        point(i, j + 1),
+                    ]);
+                }
+            }
+            for [a, b, c, d] in quads {
+                // (u, w, axis) is right-handed: counter-clockwise in (u, w) faces +axis.
+                let pair = if high {
+                    [[a, b, c], [a, c, d]]
+                } else {
+                    [[a, c, b], [a, d, c]]
+                };
+                for v in pair {
+                    let facet = plc.triangles.len() as u32;
+                    plc.triangles.push(SurfaceTriangle {
+                        v,
+                        marker: 5,
+                        facet,
+                    });
+                    sides.push(2 * axis as u32 + u32::from(high));
+                }
+            }
+        }
+    }
+    let enclosed = check_surface(&plc).unwrap().domain_volume().unwrap();
+    let mut taken_out = 0;
+    for recovery in [
+        RecoveryMethod3::Conforming,
+        RecoveryMethod3::APriori,
+        RecoveryMethod3::Constrained,
+    ] {
+        let run = mesh_plc3(
+            &plc,
+            &MeshOptions3 {
+                recovery,
+                ..options(1.0)
+            },
+        )
+        .unwrap_or_else(|e| panic!("{recovery:?}: {e}"));
+        taken_out += run.flat_removed;
+        let m = &run.arrays;
+        let boundary: std::collections::HashSet<[u32; 3]> = m
+            .faces
+            .iter()
+            .map(|f| {
+                let mut f = *f;
+                f.sort_unstable();
+                f
+            })
+            .collect();
+        let mut volume = 0.0;
+        for t in &m.tets {
+            let p = t.map(|i| m.coords[i as usize]);
+            assert_eq!(orient3d(p[0], p[1], p[2], p[3]), Sign::Positive, "{t:?}");
+            let v = tet_volume(p[0], p[1], p[2], p[3]);
+            volume += v;
+            let on_boundary = (0..4)
+                .filter(|&k| {
+                    let mut f = [t[(k + 1) % 4], t[(k + 2) % 4], t[(k + 3) % 4]];
+                    f.sort_unstable();
+                    boundary.contains(&f)
+                })
+                .count();
+            let longest = (0..4)
+                .flat_map(|i| (0..4).map(move |j| (i, j)))
+                .map(|(i, j)| {
+                    let d = [0, 1, 2].map(|k| p[i][k] - p[j][k]);
+                    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+                })
+                .fold(0.0, f64::max);
+            assert!(
+                on_boundary < 2 || v.abs() > longest.powi(3) * 2f64.powi(-30),
+                "{recovery:?}: flat element {t:?} with two boundary faces"
+            );
+        }
+        assert!(
+            (volume - enclosed).abs() <= 1e-9 * enclosed,
+            "{recovery:?}: volume {volume}, enclosed {enclosed}"
+        );
+        // Each side is covered (a face may now be counted in a neighbouring triangle).
+        let mut covered = [0.0; 6];
+        for (t, &f) in m.faces.iter().zip(&m.face_facets) {
+            covered[sides[f as usize] as usize] += area(t.map(|i| m.coords[i as usize]));
+        }
+        for (k, want) in [6.0, 6.0, 3.0, 3.0, 2.0, 2.0].into_iter().enumerate() {
+            assert!(
+                (covered[k] - want).abs() <= 1e-9 * want,
+                "{recovery:?}: side {k}: {covered:?}"
+            );
+        }
+        assert!(m.face_markers.iter().all(|&x| x == 5));
+        run.mesh.ct.validate_structure().expect("valid structure");
+    }
+    assert!(taken_out > 0, "the case has flat elements to take out");
 }
 
 #[test]

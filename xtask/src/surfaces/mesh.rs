@@ -413,18 +413,33 @@ impl CheckReport {
     }
 }
 
+/// How the coverage check groups the input triangles (see [`check_mesh_with`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Patches {
+    /// Each input triangle alone.
+    Triangles,
+    /// Neighbours that lie exactly in one plane, joined: what `--merge-coplanar`
+    /// re-triangulates.
+    Planar,
+    /// Neighbours that lie in one plane to rounding, joined: their four corners span a volume
+    /// of at most 2^-30 of the longest distance between them cubed. The full pipeline takes
+    /// out the flat elements on such neighbours and swaps their diagonal
+    /// (`Mesh3::remove_flat_surface_elements`).
+    Flat,
+}
+
 /// [`check_mesh_with`] with coverage per input triangle.
 #[cfg(test)]
 pub fn check_mesh(mesh: &TetMesh, input: &Surface) -> CheckReport {
-    check_mesh_with(mesh, input, false)
+    check_mesh_with(mesh, input, Patches::Triangles)
 }
 
 /// The checks of the module docs on `mesh`, a mesh of the solid bounded by `input`
-/// (xtask's reading of the input file, duplicates merged). With `merged`, coverage is checked
-/// per planar patch of the input (its triangles joined across edges where both lie exactly in
-/// one plane, consistently oriented) instead of per triangle: what re-triangulating coplanar
-/// facets (`--merge-coplanar`) promises.
-pub fn check_mesh_with(mesh: &TetMesh, input: &Surface, merged: bool) -> CheckReport {
+/// (xtask's reading of the input file, duplicates merged). Coverage is checked per group of
+/// input triangles as `patches` says (joined across edges where both lie in one plane,
+/// exactly or to rounding, consistently oriented): what re-triangulating coplanar facets
+/// (`--merge-coplanar`) and taking out flat elements (the full pipeline) promise.
+pub fn check_mesh_with(mesh: &TetMesh, input: &Surface, patches: Patches) -> CheckReport {
     let mut r = CheckReport::default();
     if mesh.tets.is_empty() {
         r.fail("empty".into(), "the mesh has no tetrahedra".into());
@@ -508,10 +523,10 @@ pub fn check_mesh_with(mesh: &TetMesh, input: &Surface, merged: bool) -> CheckRe
         );
     }
     // Coverage of every input triangle (or planar patch) by boundary faces.
-    let patches = if merged {
-        planar_patches(input)
-    } else {
-        (0..input.triangles.len() as u32).collect()
+    let patches = match patches {
+        Patches::Triangles => (0..input.triangles.len() as u32).collect(),
+        Patches::Planar => planar_patches(input, false),
+        Patches::Flat => planar_patches(input, true),
     };
     coverage(mesh, input, &patches, &mut r);
     // Topology.
@@ -539,8 +554,9 @@ pub fn check_mesh_with(mesh: &TetMesh, input: &Surface, merged: bool) -> CheckRe
 
 /// The planar patch of each input triangle: triangles are joined across an edge of exactly
 /// two triangles that run it in opposite directions and lie exactly in one plane (robust
-/// orient3d), so a patch is a connected planar region. Patch ids are triangle indices.
-fn planar_patches(input: &Surface) -> Vec<u32> {
+/// orient3d), or with `flat` in one plane to rounding ([`Patches::Flat`]), so a patch is a
+/// connected (nearly) planar region. Patch ids are triangle indices.
+fn planar_patches(input: &Surface, flat: bool) -> Vec<u32> {
     let mut parent: Vec<u32> = (0..input.triangles.len() as u32).collect();
     fn find(p: &mut [u32], mut x: u32) -> u32 {
         while p[x as usize] != x {
@@ -566,7 +582,20 @@ fn planar_patches(input: &Surface) -> Vec<u32> {
             (0..3).any(|m| v[m] == a && v[(m + 1) % 3] == b)
         };
         let p = |v: u32| coord(input.points[v as usize]);
-        if runs(t1) != runs(t2) && robust::orient3d(p(a), p(b), p(c), p(d)) == 0.0 {
+        let in_plane = if flat {
+            let q = [a, b, c, d].map(|v| input.points[v as usize]);
+            let mut longest = 0.0f64;
+            for i in 0..4 {
+                for j in i + 1..4 {
+                    longest = longest.max(norm(sub(q[i], q[j])));
+                }
+            }
+            let volume = dot(cross(sub(q[1], q[0]), sub(q[2], q[0])), sub(q[3], q[0])).abs() / 6.0;
+            volume <= longest.powi(3) * 2f64.powi(-30)
+        } else {
+            robust::orient3d(p(a), p(b), p(c), p(d)) == 0.0
+        };
+        if runs(t1) != runs(t2) && in_plane {
             let (x, y) = (find(&mut parent, t1), find(&mut parent, t2));
             parent[x as usize] = y;
         }
@@ -824,12 +853,14 @@ mod tests {
         let (mut s, m) = cube_mesh();
         s.triangles[0] = [0, 3, 1];
         s.triangles[1] = [1, 3, 2];
-        let f = check_mesh_with(&m, &s, false).failures.join("\n");
+        let f = check_mesh_with(&m, &s, Patches::Triangles)
+            .failures
+            .join("\n");
         assert!(f.contains("coverage:"), "{f}");
-        let r = check_mesh_with(&m, &s, true);
+        let r = check_mesh_with(&m, &s, Patches::Planar);
         assert!(r.failures.is_empty(), "{:?}", r.failures);
         // Planar patches: the six sides, each of two triangles.
-        let patches = planar_patches(&s);
+        let patches = planar_patches(&s, false);
         let mut roots = patches.clone();
         roots.sort_unstable();
         roots.dedup();
@@ -837,8 +868,30 @@ mod tests {
         // A face off the bottom plane is still caught.
         let mut bad = m.clone();
         bad.points[1][2] += 1e-3;
-        let f = check_mesh_with(&bad, &s, true).failures.join("\n");
+        let f = check_mesh_with(&bad, &s, Patches::Planar)
+            .failures
+            .join("\n");
         assert!(f.contains("lie on no input triangle"), "{f}");
+    }
+
+    #[test]
+    fn flat_coverage_joins_neighbours_in_one_plane_to_rounding() {
+        // As above, with corner 3 of the bottom a hair (10^-13) above the other three: the
+        // two bottom triangles are one patch to rounding, not exactly.
+        let (mut s, mut m) = cube_mesh();
+        s.triangles[0] = [0, 3, 1];
+        s.triangles[1] = [1, 3, 2];
+        s.points[3][2] += 1e-13;
+        m.points[3][2] += 1e-13;
+        let f = check_mesh_with(&m, &s, Patches::Planar).failures.join("\n");
+        assert!(f.contains("coverage:"), "{f}");
+        let r = check_mesh_with(&m, &s, Patches::Flat);
+        assert!(r.failures.is_empty(), "{:?}", r.failures);
+        // A millimetre off the plane is a different face.
+        s.points[3][2] += 1e-3;
+        m.points[3][2] += 1e-3;
+        let f = check_mesh_with(&m, &s, Patches::Flat).failures.join("\n");
+        assert!(f.contains("coverage:"), "{f}");
     }
 
     #[test]

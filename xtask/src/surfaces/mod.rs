@@ -316,13 +316,14 @@ fn checked_delmesh(
     surface: &Surface,
 ) -> Result<Run> {
     let (mut run, ele) = run_delmesh(bin, input, dir, name, stage, limit)?;
-    read_back(
-        &mut run,
-        &ele,
-        surface,
-        stage == DmStage::Full,
-        stage.merged(),
-    );
+    let patches = if stage == DmStage::Full {
+        mesh::Patches::Flat
+    } else if stage.merged() {
+        mesh::Patches::Planar
+    } else {
+        mesh::Patches::Triangles
+    };
+    read_back(&mut run, &ele, surface, stage == DmStage::Full, patches);
     if run.checks.as_ref().is_some_and(|c| c.failures.is_empty()) && run.why.is_empty() {
         remove_mesh(&ele);
     }
@@ -454,9 +455,9 @@ fn run_tetgen(switches: &str, input: &Path, dir: &Path, limit: u64) -> Result<(R
 
 /// Reads a successful run's mesh back, checks it against `input` and measures its
 /// quality (`quality`: only for the full pipeline).
-/// Reads a tool's mesh back and checks it (`merged`: coverage per planar patch of the input,
-/// see [`mesh::check_mesh_with`]).
-fn read_back(run: &mut Run, ele: &Path, input: &Surface, quality: bool, merged: bool) {
+/// Reads a tool's mesh back and checks it (`patches`: how coverage groups the input
+/// triangles, see [`mesh::check_mesh_with`]).
+fn read_back(run: &mut Run, ele: &Path, input: &Surface, quality: bool, patches: mesh::Patches) {
     if !run.timed.success {
         return;
     }
@@ -478,7 +479,7 @@ fn read_back(run: &mut Run, ele: &Path, input: &Surface, quality: bool, merged: 
                     m.points.len()
                 );
             }
-            run.checks = Some(mesh::check_mesh_with(&m, input, merged));
+            run.checks = Some(mesh::check_mesh_with(&m, input, patches));
             if quality {
                 run.quality = mesh::quality(&m);
             }
@@ -625,7 +626,7 @@ fn run_case_inner(
         tg_points_in = input.points.len();
         o.tetgen_input = format!("cleaned (raw: {})", short_status(&first));
     }
-    read_back(&mut tg, &tg_ele, &input, false, false);
+    read_back(&mut tg, &tg_ele, &input, false, mesh::Patches::Triangles);
     if tg.ok {
         tg.steiner = tg.points.map(|p| p.saturating_sub(tg_points_in) as u64);
         remove_mesh(&tg_ele);
@@ -635,7 +636,7 @@ fn run_case_inner(
     // edges and moves nearly coplanar ones).
     eprintln!("xtask: {name}: tetgen -pMQ");
     let (mut tgm, tgm_ele) = run_tetgen("-pMQ", &tg_input, &dir.join("recovery-tetgen-M"), lim)?;
-    read_back(&mut tgm, &tgm_ele, &input, false, false);
+    read_back(&mut tgm, &tgm_ele, &input, false, mesh::Patches::Triangles);
     if tgm.ok {
         tgm.steiner = tgm.points.map(|p| p.saturating_sub(tg_points_in) as u64);
     }
@@ -698,7 +699,7 @@ fn run_case_inner(
     if tg_ok {
         eprintln!("xtask: {name}: tetgen -pqQ");
         let (mut tg, ele) = run_tetgen("-pqQ", &tg_input, &dir.join("full-tetgen"), lim)?;
-        read_back(&mut tg, &ele, &input, true, false);
+        read_back(&mut tg, &ele, &input, true, mesh::Patches::Triangles);
         if tg.ok {
             tg.steiner = tg.points.map(|p| p.saturating_sub(tg_points_in) as u64);
         }
