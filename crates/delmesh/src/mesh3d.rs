@@ -118,6 +118,9 @@ pub struct MeshRun3 {
     /// Elements lying flat on the surface taken out after the restoration
     /// ([`Mesh3::remove_flat_surface_elements`]).
     pub flat_removed: usize,
+    /// Triangles given twice, with opposite orientations and one marker, whose second copy
+    /// was dropped: each is an internal wall ([`walls_from_duplicates`]).
+    pub duplicate_walls: usize,
     /// What smoothing did, if it ran.
     pub smoothing: Option<SmoothStats>,
     /// Quality before smoothing (after point generation), if smoothing ran.
@@ -149,8 +152,53 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
     Ok(run)
 }
 
+/// Triangles given twice with opposite orientations and one marker: two closed solids written
+/// one after the other (an STL of each material, concatenated) give their common face so, once
+/// for each. The second copy is dropped, and the face is an internal wall between the two
+/// solids (see [`delmesh_boundary_recovery::check_surface`] on walls). Copies are found by the
+/// exact coordinates of their corners, since the points of each solid are their own. Any other
+/// repetition (the same orientation, two markers, three copies) is left for the surface checks
+/// to report. Returns the surface without the dropped copies (`None`: none) and how many.
+pub fn walls_from_duplicates(plc: &Plc3) -> (Option<Plc3>, usize) {
+    let key = |v: u32| plc.points[v as usize].map(f64::to_bits);
+    let mut copies: HashMap<[[u64; 3]; 3], Vec<usize>> = HashMap::new();
+    for (k, t) in plc.triangles.iter().enumerate() {
+        let mut corners = t.v.map(key);
+        corners.sort_unstable();
+        copies.entry(corners).or_default().push(k);
+    }
+    let mut dropped: Vec<usize> = copies
+        .values()
+        .filter_map(|c| {
+            let [first, second] = c[..] else {
+                return None;
+            };
+            let (a, b) = (&plc.triangles[first], &plc.triangles[second]);
+            // Opposite: b runs a's corners backwards, from whichever corner.
+            let (x, y) = (a.v.map(key), b.v.map(key));
+            let opposite = (0..3).any(|r| (0..3).all(|m| y[m] == x[(r + 3 - m) % 3]));
+            (opposite && a.marker == b.marker).then_some(first.max(second))
+        })
+        .collect();
+    if dropped.is_empty() {
+        return (None, 0);
+    }
+    dropped.sort_unstable();
+    let mut kept = plc.clone();
+    let mut next = dropped.iter().peekable();
+    let mut k = 0;
+    kept.triangles.retain(|_| {
+        let drop = next.next_if_eq(&&k).is_some();
+        k += 1;
+        !drop
+    });
+    (Some(kept), dropped.len())
+}
+
 /// [`mesh_plc3`] on the problem as it is (no rescaling).
 fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> {
+    let (deduplicated, duplicate_walls) = walls_from_duplicates(plc);
+    let plc = deduplicated.as_ref().unwrap_or(plc);
     let mut timings = Vec::new();
     let mut clock = Instant::now();
     let mut lap = |name: &'static str, timings: &mut Vec<(&'static str, f64)>| {
@@ -237,6 +285,7 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
         restoration,
         refined,
         flat_removed,
+        duplicate_walls,
         smoothing,
         quality_before_smoothing,
         quality,
@@ -515,6 +564,13 @@ impl MeshRun3 {
                 self.flat_removed
             ));
         }
+        if self.duplicate_walls > 0 {
+            s.push_str(&format!(
+                "triangles given twice (opposite orientations, one marker) kept once as \
+                 internal walls: {}\n",
+                self.duplicate_walls
+            ));
+        }
         if let (Some(st), Some(q)) = (&self.smoothing, &self.quality_before_smoothing) {
             s.push_str(&format!(
                 "smoothing: {st}\n  before: min dihedral {:.2}°, max {:.2}°, {} slivers under 5°\n",
@@ -765,12 +821,13 @@ impl MeshRun3 {
             .collect::<Vec<_>>()
             .join(", ");
         format!(
-            "{{\n  \"points\": {},\n  \"tetrahedra\": {},\n  \"boundary_triangles\": {},\n  \"recovery\": {},\n  \"generation\": {generation},\n  \"restoration\": {restoration},\n  \"flat_removed\": {},\n  \"quality_before_smoothing\": {},\n  \"quality\": {},\n  \"seconds\": {{{timings}}}\n}}\n",
+            "{{\n  \"points\": {},\n  \"tetrahedra\": {},\n  \"boundary_triangles\": {},\n  \"recovery\": {},\n  \"generation\": {generation},\n  \"restoration\": {restoration},\n  \"flat_removed\": {},\n  \"duplicate_walls\": {},\n  \"quality_before_smoothing\": {},\n  \"quality\": {},\n  \"seconds\": {{{timings}}}\n}}\n",
             self.arrays.coords.len(),
             self.arrays.tets.len(),
             self.arrays.faces.len(),
             history(&self.recovery),
             self.flat_removed,
+            self.duplicate_walls,
             self.quality_before_smoothing
                 .as_ref()
                 .map_or("null".to_string(), QualityReport3::to_json),

@@ -312,6 +312,57 @@ fn a_rotated_box_of_one_facet_per_triangle_keeps_no_flat_element_on_its_sides() 
 }
 
 #[test]
+fn two_solids_written_one_after_the_other_share_their_face_as_a_wall() {
+    // Two unit cubes, each a closed surface of its own (as two STL files concatenated): the
+    // face x = 1 comes twice, with opposite orientations. The second copy is dropped and the
+    // face is a wall inside the domain, meshed from both sides; with one marker only.
+    let mut plc = Plc3::default();
+    geometry3::box_surface([0.0; 3], [1.0; 3], [4; 3], 1).append_to(&mut plc);
+    geometry3::box_surface([1.0, 0.0, 0.0], [2.0, 1.0, 1.0], [4; 3], 1).append_to(&mut plc);
+    let on_wall = |plc: &Plc3| {
+        plc.triangles
+            .iter()
+            .filter(|t| t.v.iter().all(|&v| plc.points[v as usize][0] == 1.0))
+            .count()
+    };
+    let shared = on_wall(&plc) / 2;
+    assert!(shared > 0);
+    let (kept, dropped) = delmesh::mesh3d::walls_from_duplicates(&plc);
+    let kept = kept.expect("copies found");
+    assert_eq!((dropped, on_wall(&kept)), (shared, shared));
+    for recovery in [RecoveryMethod3::Conforming, RecoveryMethod3::Constrained] {
+        let run = mesh_plc3(
+            &plc,
+            &MeshOptions3 {
+                recovery,
+                ..options(1.0)
+            },
+        )
+        .unwrap_or_else(|e| panic!("{recovery:?}: {e}"));
+        assert_eq!(run.duplicate_walls, shared);
+        check_enclosing(&kept, &run, 1, recovery == RecoveryMethod3::Conforming, 2.0);
+        let a = &run.arrays;
+        let wall: f64 = a
+            .faces
+            .iter()
+            .map(|t| t.map(|i| a.coords[i as usize]))
+            .filter(|p| p.iter().all(|q| q[0] == 1.0))
+            .map(area)
+            .sum();
+        assert!((wall - 1.0).abs() < 1e-12, "{recovery:?}: wall area {wall}");
+    }
+    // Two markers on the copies: which boundary condition is meant? Still an error.
+    let mut two = plc.clone();
+    let n = two.triangles.len();
+    for t in &mut two.triangles[n / 2..] {
+        t.marker = 2;
+    }
+    assert_eq!(delmesh::mesh3d::walls_from_duplicates(&two).1, 0);
+    let err = mesh_plc3(&two, &options(1.0)).unwrap_err().to_string();
+    assert!(err.contains("twice") || err.contains("duplicat"), "{err}");
+}
+
+#[test]
 fn two_bodies_a_priori() {
     let plc = geometry3::two_bodies(2);
     let run = mesh_plc3(

@@ -93,7 +93,10 @@ pub(crate) fn scaled_points(points: &[P], base: u64) -> Result<(f64, Vec<P>), Su
 ///    surface has each triangle once; the copies may carry different markers (which boundary
 ///    condition is meant?), and a copy with the opposite orientation is a zero-thickness wall,
 ///    which changes the domain. Silently dropping them could hide either, and exporters that
-///    write a triangle twice are rare enough that saying so is better;
+///    write a triangle twice are rare enough that saying so is better. (Two closed solids
+///    written one after the other give their common face twice, with opposite orientations:
+///    the `delmesh` facade keeps one copy of such a pair when both have one marker, a wall,
+///    and says so, before these checks);
 /// 5. every edge is used by at least two triangles: an edge of one triangle only is an open
 ///    boundary, an error listing the edges and their facets. An edge of three or more
 ///    triangles is a [`Junction`]: where an internal wall between two regions of the domain
