@@ -31,6 +31,7 @@ use delmesh_point_gen::{
 };
 use delmesh_predicates::{orient3d, Sign};
 use delmesh_smoothing::{dihedral_range, QualityReport3, SmoothStats, Smoother3};
+use rayon::prelude::*;
 
 use crate::{units, Error};
 
@@ -160,39 +161,46 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
 /// repetition (the same orientation, two markers, three copies) is left for the surface checks
 /// to report. Returns the surface without the dropped copies (`None`: none) and how many.
 pub fn walls_from_duplicates(plc: &Plc3) -> (Option<Plc3>, usize) {
-    let key = |v: u32| plc.points[v as usize].map(f64::to_bits);
-    let mut copies: HashMap<[[u64; 3]; 3], Vec<usize>> = HashMap::new();
-    for (k, t) in plc.triangles.iter().enumerate() {
-        let mut corners = t.v.map(key);
-        corners.sort_unstable();
-        copies.entry(corners).or_default().push(k);
-    }
-    let mut dropped: Vec<usize> = copies
-        .values()
-        .filter_map(|c| {
-            let [first, second] = c[..] else {
-                return None;
-            };
-            let (a, b) = (&plc.triangles[first], &plc.triangles[second]);
-            // Opposite: b runs a's corners backwards, from whichever corner.
-            let (x, y) = (a.v.map(key), b.v.map(key));
-            let opposite = (0..3).any(|r| (0..3).all(|m| y[m] == x[(r + 3 - m) % 3]));
-            (opposite && a.marker == b.marker).then_some(first.max(second))
+    // (0.0 and -0.0 are one coordinate.)
+    let key = |v: u32| plc.points[v as usize].map(|x| (x + 0.0).to_bits());
+    let mut keyed: Vec<([[u64; 3]; 3], usize)> = plc
+        .triangles
+        .par_iter()
+        .enumerate()
+        .map(|(k, t)| {
+            let mut corners = t.v.map(key);
+            corners.sort_unstable();
+            (corners, k)
         })
         .collect();
-    if dropped.is_empty() {
+    keyed.par_sort_unstable();
+    let mut keep = vec![true; plc.triangles.len()];
+    let mut dropped = 0;
+    for copies in keyed.chunk_by(|x, y| x.0 == y.0) {
+        let [(_, first), (_, second)] = copies[..] else {
+            continue;
+        };
+        let (a, b) = (&plc.triangles[first], &plc.triangles[second]);
+        // Opposite: b runs a's corners backwards, from whichever corner.
+        let (x, y) = (a.v.map(key), b.v.map(key));
+        let opposite = (0..3).any(|r| (0..3).all(|m| y[m] == x[(r + 3 - m) % 3]));
+        if opposite && a.marker == b.marker {
+            keep[second] = false;
+            dropped += 1;
+        }
+    }
+    if dropped == 0 {
         return (None, 0);
     }
-    dropped.sort_unstable();
     let mut kept = plc.clone();
-    let mut next = dropped.iter().peekable();
-    let mut k = 0;
-    kept.triangles.retain(|_| {
-        let drop = next.next_if_eq(&&k).is_some();
-        k += 1;
-        !drop
-    });
-    (Some(kept), dropped.len())
+    kept.triangles = plc
+        .triangles
+        .iter()
+        .zip(&keep)
+        .filter(|x| *x.1)
+        .map(|x| *x.0)
+        .collect();
+    (Some(kept), dropped)
 }
 
 /// [`mesh_plc3`] on the problem as it is (no rescaling).
