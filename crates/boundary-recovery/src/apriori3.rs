@@ -5,7 +5,8 @@
 //! For a surface triangle with circumcentre `c`, circumradius `R`, unit normal `n` and mean edge
 //! length `L`, the point is `c + s·h·n` on the side `s` (±1) of the domain, at the height
 //! `h = √(2/3)·L` of a regular tetrahedron on the face, or lower (3/4, 1/2 of it) if the sphere
-//! through the face and the point is not empty. That sphere has its centre at `c + s·σ·n` with
+//! through the face and the point is not empty, or if another point lies within `h/4` of the
+//! new one (on the sphere: the two triangles of a rectangle would get one point). That sphere has its centre at `c + s·σ·n` with
 //! `σ = (h² − R²)/(2h)` and radius `√(R² + σ²)`. Emptiness is checked against every point known
 //! so far (surface points, field points and the a-priori points already placed) through a
 //! uniform grid. Faces for which no height works (tight corners, skinny faces whose circumsphere
@@ -14,6 +15,9 @@
 
 use crate::plc3::SurfaceTriangle;
 use std::collections::HashMap;
+
+/// An a-priori point must be farther than this many times its height from every other point.
+const NEAR: f64 = 0.25;
 
 /// A uniform hash grid of points for ball queries.
 struct Grid {
@@ -111,8 +115,12 @@ pub(crate) fn a_priori_points(
                 let sigma = (h * h - r * r) / (2.0 * h);
                 let centre = [0, 1, 2].map(|i| c[i] + s * sigma * n[i]);
                 let radius = (r * r + sigma * sigma).sqrt();
-                if !grid.any_inside(centre, radius, &p) {
-                    found = Some([0, 1, 2].map(|i| c[i] + s * h * n[i]));
+                let q = [0, 1, 2].map(|i| c[i] + s * h * n[i]);
+                // A point on the sphere is no obstacle to the face, but one at (or by) q would
+                // be a near-duplicate: the two triangles of a rectangle have one circumcircle,
+                // normal and mean edge length, so their points fell together (to rounding).
+                if !grid.any_inside(centre, radius, &p) && !grid.any_inside(q, NEAR * h, &p) {
+                    found = Some(q);
                     break 'search;
                 }
             }
@@ -177,6 +185,25 @@ mod tests {
         assert_eq!(c, [1.0, 1.0, 0.0]);
         assert!((r - 2f64.sqrt()).abs() < 1e-15);
         assert_eq!(n, [0.0, 0.0, 1.0]);
+    }
+
+    #[test]
+    fn no_point_by_another_point_on_the_sphere() {
+        // The two triangles of a rectangle have one circumcircle, normal and mean edge length:
+        // the second point fell on the first (1e-16 apart in a thin slab's side). Here the
+        // other point is a hair above where the face's point would go, outside its sphere.
+        let points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let t = [SurfaceTriangle {
+            v: [0, 1, 2],
+            marker: 0,
+            facet: 0,
+        }];
+        let (alone, _) = a_priori_points(&points, &[], &t, |_| 1.0);
+        let q = alone[0];
+        let other = [q[0], q[1], q[2] + 1e-9];
+        let (placed, none) = a_priori_points(&points, &[other], &t, |_| 1.0);
+        assert_eq!((placed.len(), none), (1, 0));
+        assert!(dist(placed[0], other) > 0.1 * q[2], "{placed:?} {other:?}");
     }
 
     #[test]

@@ -13,6 +13,24 @@ use delmesh_predicates::{orient3d, Sign};
 #[derive(Clone, Debug, Default)]
 pub struct FaceIndex(HashMap<[VertexId; 3], usize>);
 
+/// Rounds of [`Mesh3::split_flat_elements`]: a centroid's new elements are not flat, so one
+/// round is enough unless flat elements touch; the bound keeps any input bounded.
+const FLAT_SPLIT_ROUNDS: usize = 4;
+
+/// Whether the tetrahedron `p` is flat: volume at most 2^-30 of its longest edge cubed (the
+/// test of [`Mesh3::remove_flat_surface_elements`] too).
+fn flat(p: [[f64; 3]; 4]) -> bool {
+    let mut longest2 = 0.0f64;
+    for i in 0..4 {
+        for j in i + 1..4 {
+            let d = sub(p[i], p[j]);
+            longest2 = longest2.max(dot(d, d));
+        }
+    }
+    let volume = dot(cross(sub(p[1], p[0]), sub(p[2], p[0])), sub(p[3], p[0])).abs() / 6.0;
+    volume <= longest2 * longest2.sqrt() * 2f64.powi(-30)
+}
+
 fn sorted(mut v: [VertexId; 3]) -> [VertexId; 3] {
     v.sort_unstable();
     v
@@ -300,6 +318,71 @@ impl Mesh3 {
         index.0.insert(sorted(new1), f1);
         index.0.insert(sorted(new2), f2);
         true
+    }
+
+    /// Splits every element that lies flat inside the domain by a point at its centroid, and
+    /// returns how many points went in. Four corners on one circle (a rectangle or any
+    /// symmetric trapezoid: the vertical sides of a thin slab, mirror-image Steiner points of a
+    /// symmetric part) lie on a whole family of spheres, and the symbolic perturbation that
+    /// settles such ties may keep the four as one element of no volume (its volume is at most
+    /// 2^-30 of its longest edge cubed; dihedral angles 0° and 180°) whose faces are all
+    /// interior, which [`Self::remove_flat_surface_elements`] cannot take out and a solver cannot
+    /// use. The centroid lies inside the circle, hence strictly inside every sphere through it:
+    /// the element and its neighbours on both sides go into the new point's cavity, and the
+    /// new elements join it to faces off the plane. The insertion is the refinement's (its
+    /// cavity never crosses a boundary face and must be star-shaped, the element's region only),
+    /// so the mesh stays constrained Delaunay, and it is refused where one of the new elements
+    /// would be flat itself (other points in or just by the plane: splitting there made more
+    /// flat elements than it took out); a refused centroid leaves the element as it was.
+    /// New points get the mean spacing of the element's corners. At most four
+    /// rounds over the flat elements left.
+    pub fn split_flat_elements(&mut self) -> usize {
+        let mut added = 0;
+        for _ in 0..FLAT_SPLIT_ROUNDS {
+            let todo: Vec<CellId> = self.elements().filter(|&c| self.is_flat(c)).collect();
+            let mut inserted = 0;
+            for c in todo {
+                // A slot an earlier insertion of this round reused holds another element.
+                if !self.ct.is_live(c) || self.ct.tag(c) == OUTSIDE || !self.is_flat(c) {
+                    continue;
+                }
+                let tri = self.ct.triangulation();
+                let v = tri.cell(c);
+                let corners = [v[0], v[1], v[2], v[3]];
+                let p = corners.map(|u| tri.vertex(u));
+                let centroid = [0, 1, 2].map(|k| 0.25 * (p[0][k] + p[1][k] + p[2][k] + p[3][k]));
+                let spacing = 0.25 * corners.iter().map(|u| self.spacing[u.index()]).sum::<f64>();
+                let tag = self.ct.tag(c);
+                // No new element may be flat itself (near other points in or by the plane).
+                let split = self.ct.insert_if_fine(
+                    centroid,
+                    c,
+                    |ct, cell| ct.tag(cell) == tag,
+                    |corners| !flat(corners),
+                );
+                let Ok(Some(nv)) = split else {
+                    continue;
+                };
+                if self.spacing.len() <= nv.index() {
+                    self.spacing.resize(nv.index() + 1, f64::NAN);
+                    self.on_surface.resize(nv.index() + 1, false);
+                }
+                self.spacing[nv.index()] = spacing;
+                inserted += 1;
+            }
+            added += inserted;
+            if inserted == 0 {
+                break;
+            }
+        }
+        added
+    }
+
+    /// Whether finite cell `c` is [`flat`].
+    fn is_flat(&self, c: CellId) -> bool {
+        let tri = self.ct.triangulation();
+        let v = tri.cell(c);
+        !v.iter().any(|u| u.is_ghost()) && flat([0, 1, 2, 3].map(|k| tri.vertex(v[k])))
     }
 
     /// The mesh as flat arrays (see [`MeshArrays3`]).

@@ -193,6 +193,22 @@ impl ConstrainedTriangulation3 {
         hint: CellId,
         accept: impl Fn(&Self, CellId) -> bool,
     ) -> Result<Option<VertexId>, TriangulationError> {
+        self.insert_if_fine(point, hint, accept, |_| true)
+    }
+
+    /// [`Self::insert_if`], refused too if `fine` is false for one of the new cells, given by
+    /// its corners (the new point last) in the triangulation's internal units (a power of two
+    /// times the caller's: for tests that do not depend on the scale).
+    ///
+    /// # Errors
+    /// A non-finite coordinate or one outside the range of the triangulation.
+    pub fn insert_if_fine(
+        &mut self,
+        point: [f64; 3],
+        hint: CellId,
+        accept: impl Fn(&Self, CellId) -> bool,
+        fine: impl Fn([[f64; 3]; 4]) -> bool,
+    ) -> Result<Option<VertexId>, TriangulationError> {
         let p = self.tri.scaled_input(point)?;
         let hint = if hint.index() < self.tri.simplices.len()
             && self.tri.simplices[hint.index()].v[0] != VertexId::DEAD
@@ -211,9 +227,16 @@ impl ConstrainedTriangulation3 {
         let tag = self.tags[c.index()];
         let input = self.tri.vertex_of_input.len() as u32;
         let protected = &self.protected;
-        let Some(v) = self.tri.insert_blocked(p, input, c, |f| {
-            (protected[f.cell().index()] >> f.facet()) & 1 != 0
-        }) else {
+        let Some(v) = self.tri.insert_blocked(
+            p,
+            input,
+            c,
+            |f| (protected[f.cell().index()] >> f.facet()) & 1 != 0,
+            |points, facet, p| {
+                let q = |k: usize| points[facet[k].index()];
+                fine([q(0), q(1), q(2), p])
+            },
+        ) else {
             return Ok(None);
         };
         let n = self.tri.simplices.len();

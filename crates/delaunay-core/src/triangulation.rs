@@ -690,13 +690,16 @@ impl<D: Dim> Triangulation<D> {
     /// reaches both sides of a blocked facet), nothing changes and `None` is returned:
     /// shrinking the cavity instead would leave cells whose circumsphere holds `p`. After
     /// success, `self.cavity.boundary[k]` is the facet `self.cavity.new_cells[k]` was built on,
-    /// for the caller's per-cell data.
+    /// for the caller's per-cell data. `fine` sees the points, the corners of each new finite
+    /// cell but the new point (the boundary facet it is built on) and `p`, and may refuse the
+    /// insertion too.
     pub(crate) fn insert_blocked(
         &mut self,
         p: D::Point,
         input: u32,
         start: CellId,
         blocked: impl Fn(FacetRef) -> bool,
+        fine: impl Fn(&[D::Point], &[VertexId], D::Point) -> bool,
     ) -> Option<VertexId> {
         let mut cavity = self.seed_cavity(&[start]);
         let v = VertexId(self.input_index.len() as u32);
@@ -727,14 +730,27 @@ impl<D: Dim> Triangulation<D> {
                     self.mark[n.index()] = OUTSIDE;
                 }
                 // A boundary facet: the new cell on it must be positive.
-                if !cell.v[..D::C].contains(&VertexId::GHOST)
-                    && D::orient_replacing(&self.points, &cell.v, f, p) != Sign::Positive
-                {
+                let finite = !cell.v[..D::C].contains(&VertexId::GHOST);
+                if finite && D::orient_replacing(&self.points, &cell.v, f, p) != Sign::Positive {
                     star_shaped = false;
                     break 'search;
                 }
                 let mut vertices = cell.v;
                 vertices[f] = v;
+                if finite {
+                    let mut facet = [VertexId::GHOST; 4];
+                    let mut k = 0;
+                    for (i, &u) in cell.v[..D::C].iter().enumerate() {
+                        if i != f {
+                            facet[k] = u;
+                            k += 1;
+                        }
+                    }
+                    if !fine(&self.points, &facet[..k], p) {
+                        star_shaped = false;
+                        break 'search;
+                    }
+                }
                 cavity.boundary.push(BoundaryFacet {
                     vertices,
                     apex: f as u8,

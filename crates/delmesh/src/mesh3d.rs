@@ -119,6 +119,9 @@ pub struct MeshRun3 {
     /// Elements lying flat on the surface taken out after the restoration
     /// ([`Mesh3::remove_flat_surface_elements`]).
     pub flat_removed: usize,
+    /// Points put at the centroids of elements lying flat inside the domain after the
+    /// restoration ([`Mesh3::split_flat_elements`]).
+    pub flat_split: usize,
     /// Triangles given twice, with opposite orientations and one marker, whose second copy
     /// was dropped: each is an internal wall ([`walls_from_duplicates`]).
     pub duplicate_walls: usize,
@@ -275,9 +278,10 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
     } else {
         (measure_before(), None)
     };
-    let mut flat_removed = 0;
+    let (mut flat_removed, mut flat_split) = (0, 0);
     if restoration.is_some() {
         flat_removed = mesh.remove_flat_surface_elements();
+        flat_split = mesh.split_flat_elements();
         arrays = mesh.to_arrays();
         lap("delaunay restoration", &mut timings);
     } else if quality_before_smoothing.is_some() {
@@ -293,6 +297,7 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
         restoration,
         refined,
         flat_removed,
+        flat_split,
         duplicate_walls,
         smoothing,
         quality_before_smoothing,
@@ -572,6 +577,12 @@ impl MeshRun3 {
                 self.flat_removed
             ));
         }
+        if self.flat_split > 0 {
+            s.push_str(&format!(
+                "flat elements inside split at their centroids: {}\n",
+                self.flat_split
+            ));
+        }
         if self.duplicate_walls > 0 {
             s.push_str(&format!(
                 "triangles given twice (opposite orientations, one marker) kept once as \
@@ -829,12 +840,13 @@ impl MeshRun3 {
             .collect::<Vec<_>>()
             .join(", ");
         format!(
-            "{{\n  \"points\": {},\n  \"tetrahedra\": {},\n  \"boundary_triangles\": {},\n  \"recovery\": {},\n  \"generation\": {generation},\n  \"restoration\": {restoration},\n  \"flat_removed\": {},\n  \"duplicate_walls\": {},\n  \"quality_before_smoothing\": {},\n  \"quality\": {},\n  \"seconds\": {{{timings}}}\n}}\n",
+            "{{\n  \"points\": {},\n  \"tetrahedra\": {},\n  \"boundary_triangles\": {},\n  \"recovery\": {},\n  \"generation\": {generation},\n  \"restoration\": {restoration},\n  \"flat_removed\": {},\n  \"flat_split\": {},\n  \"duplicate_walls\": {},\n  \"quality_before_smoothing\": {},\n  \"quality\": {},\n  \"seconds\": {{{timings}}}\n}}\n",
             self.arrays.coords.len(),
             self.arrays.tets.len(),
             self.arrays.faces.len(),
             history(&self.recovery),
             self.flat_removed,
+            self.flat_split,
             self.duplicate_walls,
             self.quality_before_smoothing
                 .as_ref()

@@ -174,6 +174,117 @@ fn blocks_sharing_walls_are_meshed_region_by_region() {
     check_enclosing(&plc, &run, 2, true, 2.0 - 0.008);
 }
 
+/// The surface of the box `[0, size]` on a lattice of `n` squares per axis, each square split
+/// by a diagonal (four co-circular corners), its points moved by `place`, marker 5; each
+/// triangle its own facet if `facet_per_triangle`, else one facet per side. Also the side of
+/// each triangle (0: x = 0, 1: x = size, 2: y = 0, ...).
+fn lattice_box(
+    size: [f64; 3],
+    n: [usize; 3],
+    place: impl Fn([f64; 3]) -> [f64; 3],
+    facet_per_triangle: bool,
+) -> (Plc3, Vec<u32>) {
+    let mut plc = Plc3::default();
+    let mut sides = Vec::new();
+    let mut index: HashMap<[usize; 3], u32> = HashMap::new();
+    for axis in 0..3 {
+        let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+        for high in [false, true] {
+            let mut point = |i: usize, j: usize| {
+                let mut q = [0; 3];
+                q[axis] = if high { n[axis] } else { 0 };
+                (q[u], q[w]) = (i, j);
+                *index.entry(q).or_insert_with(|| {
+                    plc.points.push(place(
+                        [0, 1, 2].map(|k| size[k] * q[k] as f64 / n[k] as f64),
+                    ));
+                    plc.points.len() as u32 - 1
+                })
+            };
+            let mut quads = Vec::new();
+            for i in 0..n[u] {
+                for j in 0..n[w] {
+                    quads.push([
+                        point(i, j),
+                        point(i + 1, j),
+                        point(i + 1, j + 1),
+                        point(i, j + 1),
+                    ]);
+                }
+            }
+            let side = 2 * axis as u32 + u32::from(high);
+            for [a, b, c, d] in quads {
+                // (u, w, axis) is right-handed: counter-clockwise in (u, w) faces +axis.
+                let pair = if high {
+                    [[a, b, c], [a, c, d]]
+                } else {
+                    [[a, c, b], [a, d, c]]
+                };
+                for v in pair {
+                    let facet = if facet_per_triangle {
+                        plc.triangles.len() as u32
+                    } else {
+                        side
+                    };
+                    plc.triangles.push(SurfaceTriangle {
+                        v,
+                        marker: 5,
+                        facet,
+                    });
+                    sides.push(side);
+                }
+            }
+        }
+    }
+    (plc, sides)
+}
+
+#[test]
+fn a_thin_slab_keeps_no_flat_element_inside() {
+    // A slab 1 x 1 x 0.01 on a lattice of 1/6, each triangle its own facet (as in an OFF
+    // file): the four corners of each vertical rectangle across the slab (two above two) lie
+    // on one circle, and the tie-breaking of the restoration kept some as elements of no
+    // volume with four interior faces. The whole pipeline splits them at their centroids: no
+    // flat element is left, in any recovery, and the mesh passes every check (volume, facets,
+    // Euler, exact Delaunay). The a-priori points of the two sides no longer meet half-way
+    // (they were 1e-16 apart, and made flat elements of their own).
+    let (plc, _) = lattice_box([1.0, 1.0, 0.01], [6, 6, 1], |p| p, true);
+    let mut split = 0;
+    for recovery in [
+        RecoveryMethod3::Conforming,
+        RecoveryMethod3::APriori,
+        RecoveryMethod3::Constrained,
+    ] {
+        let run = mesh_plc3(
+            &plc,
+            &MeshOptions3 {
+                recovery,
+                ..options(1.0)
+            },
+        )
+        .unwrap_or_else(|e| panic!("{recovery:?}: {e}"));
+        split += run.flat_split;
+        let m = &run.arrays;
+        for t in &m.tets {
+            let p = t.map(|i| m.coords[i as usize]);
+            let longest = (0..4)
+                .flat_map(|i| (0..4).map(move |j| (i, j)))
+                .map(|(i, j)| {
+                    let d = [0, 1, 2].map(|k| p[i][k] - p[j][k]);
+                    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+                })
+                .fold(0.0, f64::max);
+            let v = tet_volume(p[0], p[1], p[2], p[3]);
+            assert!(
+                v > longest.powi(3) * 2f64.powi(-30),
+                "{recovery:?}: flat element {t:?} ({v})"
+            );
+        }
+        check(&plc, &run, 1, recovery != RecoveryMethod3::Constrained);
+    }
+    assert!(split > 0, "the case has flat elements to split");
+}
+
 #[test]
 fn a_rotated_box_of_one_facet_per_triangle_keeps_no_flat_element_on_its_sides() {
     // A box whose sides are split into triangles, each its own facet (as an STL or OFF file
@@ -193,52 +304,7 @@ fn a_rotated_box_of_one_facet_per_triangle_keeps_no_flat_element_on_its_sides() 
     };
     // The box [0, 1] x [0, 2] x [0, 3] on a lattice of 1/4, each square split by a diagonal
     // (four co-circular corners): sides x = 0, x = 1, y = 0, y = 2, z = 0, z = 3.
-    let n = [4usize, 8, 12];
-    let mut plc = Plc3::default();
-    let mut sides = Vec::new();
-    let mut index: HashMap<[usize; 3], u32> = HashMap::new();
-    for axis in 0..3 {
-        let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
-        for high in [false, true] {
-            let mut point = |i: usize, j: usize| {
-                let mut q = [0; 3];
-                q[axis] = if high { n[axis] } else { 0 };
-                (q[u], q[w]) = (i, j);
-                *index.entry(q).or_insert_with(|| {
-                    plc.points.push(turn(q.map(|x| x as f64 * 0.25)));
-                    plc.points.len() as u32 - 1
-                })
-            };
-            let mut quads = Vec::new();
-            for i in 0..n[u] {
-                for j in 0..n[w] {
-                    quads.push([
-                        point(i, j),
-                        point(i + 1, j),
-                        point(i + 1, j + 1),
-                        point(i, j + 1),
-                    ]);
-                }
-            }
-            for [a, b, c, d] in quads {
-                // (u, w, axis) is right-handed: counter-clockwise in (u, w) faces +axis.
-                let pair = if high {
-                    [[a, b, c], [a, c, d]]
-                } else {
-                    [[a, c, b], [a, d, c]]
-                };
-                for v in pair {
-                    let facet = plc.triangles.len() as u32;
-                    plc.triangles.push(SurfaceTriangle {
-                        v,
-                        marker: 5,
-                        facet,
-                    });
-                    sides.push(2 * axis as u32 + u32::from(high));
-                }
-            }
-        }
-    }
+    let (plc, sides) = lattice_box([1.0, 2.0, 3.0], [4, 8, 12], turn, true);
     let enclosed = check_surface(&plc).unwrap().domain_volume().unwrap();
     let mut taken_out = 0;
     for recovery in [
