@@ -3,6 +3,8 @@
 
 use std::collections::HashMap;
 
+use rayon::prelude::*;
+
 use crate::classify::OUTSIDE;
 use crate::recovery3::{cross, dot, sub, BoundaryFace, Mesh3};
 use delmesh_delaunay_core::{CellId, FacetRef, Renumbering, TriangulationError, VertexId};
@@ -337,12 +339,21 @@ impl Mesh3 {
     /// New points get the mean spacing of the element's corners. At most four
     /// rounds over the flat elements left.
     pub fn split_flat_elements(&mut self) -> usize {
+        // Every slot tested once, in parallel; later rounds look only at the cells the
+        // insertions made and at the flat elements refused before.
+        let tri = self.ct.triangulation();
+        let mut todo: Vec<CellId> = (0..tri.num_cell_slots() as u32)
+            .into_par_iter()
+            .with_min_len(1 << 12)
+            .map(CellId)
+            .filter(|&c| tri.is_live(c) && self.ct.tag(c) != OUTSIDE && self.is_flat(c))
+            .collect();
         let mut added = 0;
         for _ in 0..FLAT_SPLIT_ROUNDS {
-            let todo: Vec<CellId> = self.elements().filter(|&c| self.is_flat(c)).collect();
+            let mut next = Vec::new();
             let mut inserted = 0;
             for c in todo {
-                // A slot an earlier insertion of this round reused holds another element.
+                // A slot an earlier insertion reused may hold another element.
                 if !self.ct.is_live(c) || self.ct.tag(c) == OUTSIDE || !self.is_flat(c) {
                     continue;
                 }
@@ -361,6 +372,7 @@ impl Mesh3 {
                     |corners| !flat(corners),
                 );
                 let Ok(Some(nv)) = split else {
+                    next.push(c);
                     continue;
                 };
                 if self.spacing.len() <= nv.index() {
@@ -368,12 +380,16 @@ impl Mesh3 {
                     self.on_surface.resize(nv.index() + 1, false);
                 }
                 self.spacing[nv.index()] = spacing;
+                next.extend_from_slice(self.ct.last_new_cells());
                 inserted += 1;
             }
             added += inserted;
             if inserted == 0 {
                 break;
             }
+            next.sort_unstable();
+            next.dedup();
+            todo = next;
         }
         added
     }

@@ -1199,6 +1199,12 @@ impl<D: Dim> Triangulation<D> {
         self.vertex_of_input.len()
     }
 
+    /// Number of cell slots (live, ghost or free): cell ids are below it.
+    #[inline]
+    pub fn num_cell_slots(&self) -> usize {
+        self.simplices.len()
+    }
+
     /// Number of finite cells (triangles or tetrahedra).
     pub fn num_cells(&self) -> usize {
         self.cells().count()

@@ -119,8 +119,8 @@ pub struct MeshRun3 {
     /// Elements lying flat on the surface taken out after the restoration
     /// ([`Mesh3::remove_flat_surface_elements`]).
     pub flat_removed: usize,
-    /// Points put at the centroids of elements lying flat inside the domain after the
-    /// restoration ([`Mesh3::split_flat_elements`]).
+    /// Points put at the centroids of elements lying flat inside the domain, after the
+    /// restoration or, without generation, after recovery ([`Mesh3::split_flat_elements`]).
     pub flat_split: usize,
     /// Triangles given twice, with opposite orientations and one marker, whose second copy
     /// was dropped: each is an internal wall ([`walls_from_duplicates`]).
@@ -244,6 +244,14 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
         }
         None => None,
     };
+    // Without generation no restoration follows: the recovered mesh's flat elements inside
+    // are split now (those on the surface stay: a recovery-only mesh keeps each input
+    // triangle as recovered).
+    let mut flat_split = 0;
+    if generation.is_none() {
+        flat_split = mesh.split_flat_elements();
+        lap("flat elements", &mut timings);
+    }
     let recovery_history = mesh.history.clone();
     let mut arrays = mesh.to_arrays();
     lap("output arrays", &mut timings);
@@ -278,7 +286,7 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
     } else {
         (measure_before(), None)
     };
-    let (mut flat_removed, mut flat_split) = (0, 0);
+    let mut flat_removed = 0;
     if restoration.is_some() {
         flat_removed = mesh.remove_flat_surface_elements();
         flat_split = mesh.split_flat_elements();

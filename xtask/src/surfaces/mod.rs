@@ -376,16 +376,19 @@ fn run_delmesh(
         return Ok((run, ele));
     }
     // FORMAT: delmesh's report (crates/delmesh/src/mesh3d.rs `report_json`): `points`,
-    // `tetrahedra`, `recovery.{surface_points, edge_points, face_points}` and
+    // `tetrahedra`, `recovery.{surface_points, edge_points, face_points}`, `flat_split` and
     // `seconds["boundary recovery"]`.
     let report = fs::read_to_string(&json)
         .with_context(|| format!("reading {}", json.display()))
         .and_then(|t| Json::parse(&t));
     match report {
         Ok(j) => {
+            // Every point added to the input's, as TetGen's count: recovery's and the
+            // centroids of flat elements (`flat_split`, absent from older reports).
+            let flat = j.count(&["flat_split"]).unwrap_or(0);
             let steiner = j
                 .count(&["recovery", "edge_points"])
-                .and_then(|e| j.count(&["recovery", "face_points"]).map(|f| e + f));
+                .and_then(|e| j.count(&["recovery", "face_points"]).map(|f| e + f + flat));
             run.steiner = steiner.ok();
             run.recovery_secs = j.number(&["seconds", "boundary recovery"]).ok();
             run.points = j.count(&["points"]).ok().map(|p| p as usize);
@@ -1066,7 +1069,8 @@ X is the raw .off, except `[.smesh with 1 hole point]` (a void, which an .off ca
 for TetGen; delmesh finds it by nesting) and `[cleaned (raw: abort)]` (TetGen 1.5 aborts on \
 CGAL's `#` comment lines; it reads xtask's plain copy, duplicates merged). delmesh/TetGen: \
 yes when the tool exits 0 and its mesh reads back. Steiner: delmesh's report \
-(`edge_points + face_points`); TetGen: output points - input points. TetGen -d: pairs of \
+(`edge_points + face_points + flat_split`: recovery's points and the centroids of flat \
+elements inside); TetGen: output points - input points. TetGen -d: pairs of \
 intersecting input triangles found by `tetgen -pd` (the witness for which inputs intersect \
 themselves). wall s, cpu s (user + system), MB (peak RSS): GNU time on the whole run, \
 reading and writing included; dm recovery s: delmesh's own time of its boundary-recovery \
