@@ -6,12 +6,12 @@
 //! length `L`, the point is `c + s·h·n` on the side `s` (±1) of the domain, at the height
 //! `h = √(2/3)·L` of a regular tetrahedron on the face, or lower (3/4, 1/2 of it) if the sphere
 //! through the face and the point is not empty, or if another point lies within `h/4` of the
-//! new one (on the sphere: the two triangles of a rectangle would get one point). That sphere has its centre at `c + s·σ·n` with
-//! `σ = (h² − R²)/(2h)` and radius `√(R² + σ²)`. Emptiness is checked against every point known
-//! so far (surface points, field points and the a-priori points already placed) through a
-//! uniform grid. Faces for which no height works (tight corners, skinny faces whose circumsphere
-//! is large) are left to edge and face checking, which also repairs anything the new points
-//! broke; the history says how many.
+//! new one (on the sphere: the two triangles of a rectangle would get one point). That sphere
+//! has its centre at `c + s·σ·n` with `σ = (h² − R²)/(2h)` and radius `√(R² + σ²)`. Emptiness
+//! is checked against every point known so far (surface points, field points and the a-priori
+//! points already placed) through a uniform grid. Faces for which no height works (tight
+//! corners, skinny faces whose circumsphere is large) are left to edge and face checking, which
+//! also repairs anything the new points broke; the history says how many.
 
 use crate::plc3::SurfaceTriangle;
 use std::collections::HashMap;

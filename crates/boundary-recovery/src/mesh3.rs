@@ -375,11 +375,7 @@ impl Mesh3 {
                     next.push(c);
                     continue;
                 };
-                if self.spacing.len() <= nv.index() {
-                    self.spacing.resize(nv.index() + 1, f64::NAN);
-                    self.on_surface.resize(nv.index() + 1, false);
-                }
-                self.spacing[nv.index()] = spacing;
+                self.set_interior_spacing(nv, spacing);
                 next.extend_from_slice(self.ct.last_new_cells());
                 inserted += 1;
             }
@@ -392,6 +388,18 @@ impl Mesh3 {
             todo = next;
         }
         added
+    }
+
+    /// Records the spacing of a vertex just inserted off the surface (by point generation,
+    /// refinement or a split), growing the per-vertex arrays to hold it.
+    pub fn set_interior_spacing(&mut self, v: VertexId, spacing: f64) {
+        if self.spacing.len() <= v.index() {
+            self.spacing.resize(v.index() + 1, f64::NAN);
+        }
+        if self.on_surface.len() <= v.index() {
+            self.on_surface.resize(v.index() + 1, false);
+        }
+        self.spacing[v.index()] = spacing;
     }
 
     /// Whether finite cell `c` is [`flat`].

@@ -87,6 +87,17 @@ fn check_enclosing(plc: &Plc3, run: &MeshRun3, chi: i64, delaunay: bool, enclose
     }
 }
 
+/// The longest edge of the tetrahedron `p`.
+fn longest_edge(p: [[f64; 3]; 4]) -> f64 {
+    (0..4)
+        .flat_map(|i| (0..4).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            let d = [0, 1, 2].map(|k| p[i][k] - p[j][k]);
+            (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+        })
+        .fold(0.0, f64::max)
+}
+
 fn options(alpha: f64) -> MeshOptions3 {
     MeshOptions3 {
         generation: Some(PointGeneration3 {
@@ -246,8 +257,9 @@ fn a_thin_slab_keeps_no_flat_element_inside() {
     // on one circle, and the tie-breaking of the restoration kept some as elements of no
     // volume with four interior faces. The whole pipeline splits them at their centroids: no
     // flat element is left, in any recovery, and the mesh passes every check (volume, facets,
-    // Euler, exact Delaunay); so does recovery alone. The a-priori points of the two sides no longer meet half-way
-    // (they were 1e-16 apart, and made flat elements of their own).
+    // Euler, exact Delaunay); so does recovery alone. The a-priori points of the two
+    // triangles of a side's rectangle no longer fall together (they were 1e-16 apart, and
+    // made flat elements of their own).
     let (plc, _) = lattice_box([1.0, 1.0, 0.01], [6, 6, 1], |p| p, true);
     let mut split = [0, 0];
     for recovery in [
@@ -275,16 +287,9 @@ fn a_thin_slab_keeps_no_flat_element_inside() {
             let m = &run.arrays;
             for t in &m.tets {
                 let p = t.map(|i| m.coords[i as usize]);
-                let longest = (0..4)
-                    .flat_map(|i| (0..4).map(move |j| (i, j)))
-                    .map(|(i, j)| {
-                        let d = [0, 1, 2].map(|k| p[i][k] - p[j][k]);
-                        (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
-                    })
-                    .fold(0.0, f64::max);
                 let v = tet_volume(p[0], p[1], p[2], p[3]);
                 assert!(
-                    v > longest.powi(3) * 2f64.powi(-30),
+                    v > longest_edge(p).powi(3) * 2f64.powi(-30),
                     "{recovery:?}, generation {}: flat element {t:?} ({v})",
                     k == 0
                 );
@@ -357,15 +362,8 @@ fn a_rotated_box_of_one_facet_per_triangle_keeps_no_flat_element_on_its_sides() 
                     boundary.contains(&f)
                 })
                 .count();
-            let longest = (0..4)
-                .flat_map(|i| (0..4).map(move |j| (i, j)))
-                .map(|(i, j)| {
-                    let d = [0, 1, 2].map(|k| p[i][k] - p[j][k]);
-                    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
-                })
-                .fold(0.0, f64::max);
             assert!(
-                on_boundary < 2 || v.abs() > longest.powi(3) * 2f64.powi(-30),
+                on_boundary < 2 || v.abs() > longest_edge(p).powi(3) * 2f64.powi(-30),
                 "{recovery:?}: flat element {t:?} with two boundary faces"
             );
         }

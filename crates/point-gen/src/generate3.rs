@@ -192,10 +192,7 @@ impl PointGeneration3 {
                 match inserted {
                     Some(nv) => {
                         set(&mut dp, nv, h);
-                        set(&mut mesh.spacing, nv, h);
-                        if mesh.on_surface.len() <= nv.index() {
-                            mesh.on_surface.resize(nv.index() + 1, false);
-                        }
+                        mesh.set_interior_spacing(nv, h);
                         for &n in mesh.ct.last_new_cells() {
                             if made.len() <= n.index() {
                                 made.resize(n.index() + 1, false);

@@ -91,11 +91,7 @@ impl QualityRefinement3 {
                 else {
                     continue; // outside the region, beyond the range, or refused
                 };
-                if mesh.spacing.len() <= nv.index() {
-                    mesh.spacing.resize(nv.index() + 1, f64::NAN);
-                    mesh.on_surface.resize(nv.index() + 1, false);
-                }
-                mesh.spacing[nv.index()] = spacing;
+                mesh.set_interior_spacing(nv, spacing);
                 next.extend_from_slice(mesh.ct.last_new_cells());
                 inserted += 1;
                 added += 1;
