@@ -30,6 +30,7 @@ fn flat(p: [[f64; 3]; 4]) -> bool {
         }
     }
     let volume = dot(cross(sub(p[1], p[0]), sub(p[2], p[0])), sub(p[3], p[0])).abs() / 6.0;
+    // (A NaN volume is not flat.)
     volume <= longest2 * longest2.sqrt() * 2f64.powi(-30)
 }
 
@@ -279,19 +280,17 @@ impl Mesh3 {
         }
         let p = |u: VertexId| tri.vertex(u);
         let (pa, pb, pc, pd) = (p(a), p(b), p(c_), p(d_));
+        if !flat([pa, pb, pc, pd]) {
+            return false;
+        }
+        // An apex off the facet on its normal's side, as far as the longest edge: the four
+        // triangles (old and new) must all turn the same way about it, so the quadrilateral
+        // a d b c is convex.
         let longest = [(pa, pb), (pa, pc), (pa, pd), (pb, pc), (pb, pd), (pc, pd)]
             .iter()
             .map(|&(x, y)| dot(sub(x, y), sub(x, y)))
             .fold(0.0f64, f64::max)
             .sqrt();
-        let volume = dot(cross(sub(pb, pa), sub(pc, pa)), sub(pd, pa)).abs() / 6.0;
-        // (A NaN volume is not flat.)
-        let flat = volume <= longest.powi(3) * 2f64.powi(-30);
-        if !flat {
-            return false;
-        }
-        // An apex off the facet on its normal's side: the four triangles (old and new) must
-        // all turn the same way about it, so the quadrilateral a d b c is convex.
         let n = cross(sub(pb, pa), sub(pc, pa));
         let scale = longest / dot(n, n).sqrt();
         let apex = [0, 1, 2].map(|k| 0.25 * (pa[k] + pb[k] + pc[k] + pd[k]) + n[k] * scale);

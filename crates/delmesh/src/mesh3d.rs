@@ -163,7 +163,17 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
 /// exact coordinates of their corners, since the points of each solid are their own. Any other
 /// repetition (the same orientation, two markers, three copies) is left for the surface checks
 /// to report. Returns the surface without the dropped copies (`None`: none) and how many.
+/// A triangle naming a point that does not exist leaves the surface as it is, for the checks
+/// to name.
 pub fn walls_from_duplicates(plc: &Plc3) -> (Option<Plc3>, usize) {
+    let n = plc.points.len();
+    if plc
+        .triangles
+        .iter()
+        .any(|t| t.v.iter().any(|&v| v as usize >= n))
+    {
+        return (None, 0);
+    }
     // (0.0 and -0.0 are one coordinate.)
     let key = |v: u32| plc.points[v as usize].map(|x| (x + 0.0).to_bits());
     let mut keyed: Vec<([[u64; 3]; 3], usize)> = plc

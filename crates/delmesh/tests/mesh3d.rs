@@ -98,6 +98,19 @@ fn longest_edge(p: [[f64; 3]; 4]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The three recovery methods.
+const RECOVERIES: [RecoveryMethod3; 3] = [
+    RecoveryMethod3::Conforming,
+    RecoveryMethod3::APriori,
+    RecoveryMethod3::Constrained,
+];
+
+/// The pipeline on `plc` with `base` and `recovery`; a failure names the recovery.
+fn mesh_with(plc: &Plc3, recovery: RecoveryMethod3, base: MeshOptions3) -> MeshRun3 {
+    mesh_plc3(plc, &MeshOptions3 { recovery, ..base })
+        .unwrap_or_else(|e| panic!("{recovery:?}: {e}"))
+}
+
 fn options(alpha: f64) -> MeshOptions3 {
     MeshOptions3 {
         generation: Some(PointGeneration3 {
@@ -136,19 +149,8 @@ fn blocks_sharing_walls_are_meshed_region_by_region() {
     // attribute and lies in it, each cube's volume is 1, and the walls are covered from both
     // sides (every facet, walls included, is the union of its boundary triangles).
     let plc = geometry3::blocks(3, 4);
-    for recovery in [
-        RecoveryMethod3::Conforming,
-        RecoveryMethod3::APriori,
-        RecoveryMethod3::Constrained,
-    ] {
-        let run = mesh_plc3(
-            &plc,
-            &MeshOptions3 {
-                recovery,
-                ..options(1.0)
-            },
-        )
-        .unwrap_or_else(|e| panic!("{recovery:?}: {e}"));
+    for recovery in RECOVERIES {
+        let run = mesh_with(&plc, recovery, options(1.0));
         // Each wall meets the outer surface along 4 sides of 4 edges.
         assert_eq!(run.recovery.junction_edges, 32, "{recovery:?}");
         check_enclosing(&plc, &run, 1, true, 3.0);
@@ -262,11 +264,7 @@ fn a_thin_slab_keeps_no_flat_element_inside() {
     // made flat elements of their own).
     let (plc, _) = lattice_box([1.0, 1.0, 0.01], [6, 6, 1], |p| p, true);
     let mut split = [0, 0];
-    for recovery in [
-        RecoveryMethod3::Conforming,
-        RecoveryMethod3::APriori,
-        RecoveryMethod3::Constrained,
-    ] {
+    for recovery in RECOVERIES {
         // The whole pipeline, and recovery alone (no restoration follows, the split comes
         // right after recovery; flat elements on the surface stay there, and a lattice slab
         // has none).
@@ -274,15 +272,11 @@ fn a_thin_slab_keeps_no_flat_element_inside() {
             .into_iter()
             .enumerate()
         {
-            let run = mesh_plc3(
-                &plc,
-                &MeshOptions3 {
-                    recovery,
-                    generation,
-                    ..MeshOptions3::default()
-                },
-            )
-            .unwrap_or_else(|e| panic!("{recovery:?}: {e}"));
+            let base = MeshOptions3 {
+                generation,
+                ..MeshOptions3::default()
+            };
+            let run = mesh_with(&plc, recovery, base);
             split[k] += run.flat_split;
             let m = &run.arrays;
             for t in &m.tets {
@@ -325,19 +319,8 @@ fn a_rotated_box_of_one_facet_per_triangle_keeps_no_flat_element_on_its_sides() 
     let (plc, sides) = lattice_box([1.0, 2.0, 3.0], [4, 8, 12], turn, true);
     let enclosed = check_surface(&plc).unwrap().domain_volume().unwrap();
     let mut taken_out = 0;
-    for recovery in [
-        RecoveryMethod3::Conforming,
-        RecoveryMethod3::APriori,
-        RecoveryMethod3::Constrained,
-    ] {
-        let run = mesh_plc3(
-            &plc,
-            &MeshOptions3 {
-                recovery,
-                ..options(1.0)
-            },
-        )
-        .unwrap_or_else(|e| panic!("{recovery:?}: {e}"));
+    for recovery in RECOVERIES {
+        let run = mesh_with(&plc, recovery, options(1.0));
         taken_out += run.flat_removed;
         let m = &run.arrays;
         let boundary: std::collections::HashSet<[u32; 3]> = m
@@ -408,14 +391,7 @@ fn two_solids_written_one_after_the_other_share_their_face_as_a_wall() {
     let kept = kept.expect("copies found");
     assert_eq!((dropped, on_wall(&kept)), (shared, shared));
     for recovery in [RecoveryMethod3::Conforming, RecoveryMethod3::Constrained] {
-        let run = mesh_plc3(
-            &plc,
-            &MeshOptions3 {
-                recovery,
-                ..options(1.0)
-            },
-        )
-        .unwrap_or_else(|e| panic!("{recovery:?}: {e}"));
+        let run = mesh_with(&plc, recovery, options(1.0));
         assert_eq!(run.duplicate_walls, shared);
         check_enclosing(&kept, &run, 1, recovery == RecoveryMethod3::Conforming, 2.0);
         let a = &run.arrays;
@@ -640,4 +616,14 @@ fn a_mesh_large_enough_to_be_renumbered_passes_the_checks() {
     let elements = run.arrays.tets.len();
     assert!(elements > 2 * RENUMBER_MIN, "{elements} tetrahedra");
     check(&plc, &run, 2, true);
+}
+
+#[test]
+fn a_triangle_naming_a_missing_point_is_an_error_not_a_panic() {
+    // Through the library, where no reader has checked the indices: the search for
+    // concatenated solids' walls ran first and indexed the points blindly.
+    let (mut plc, _) = lattice_box([1.0; 3], [1, 1, 1], |p| p, false);
+    plc.triangles[3].v[1] = 99;
+    let e = mesh_plc3(&plc, &MeshOptions3::default()).unwrap_err();
+    assert!(e.to_string().contains("99"), "{e}");
 }

@@ -456,10 +456,9 @@ fn run_tetgen(switches: &str, input: &Path, dir: &Path, limit: u64) -> Result<(R
     ))
 }
 
-/// Reads a successful run's mesh back, checks it against `input` and measures its
-/// quality (`quality`: only for the full pipeline).
-/// Reads a tool's mesh back and checks it (`patches`: how coverage groups the input
-/// triangles, see [`mesh::check_mesh_with`]).
+/// Reads a successful run's mesh back, checks it against `input` (`patches`: how coverage
+/// groups the input triangles, see [`mesh::check_mesh_with`]) and measures its quality
+/// (`quality`: only for the full pipeline).
 fn read_back(run: &mut Run, ele: &Path, input: &Surface, quality: bool, patches: mesh::Patches) {
     if !run.timed.success {
         return;
