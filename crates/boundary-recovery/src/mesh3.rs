@@ -6,8 +6,10 @@ use std::collections::HashMap;
 use rayon::prelude::*;
 
 use crate::classify::OUTSIDE;
-use crate::recovery3::{cross, dot, sub, BoundaryFace, Mesh3};
-use delmesh_delaunay_core::{CellId, FacetRef, Renumbering, TriangulationError, VertexId};
+use crate::recovery3::{cross, dot, sub, BoundaryFace, Mesh3, RecoveryMethod3};
+use delmesh_delaunay_core::{
+    CellId, ConstrainedTriangulation3, FacetRef, Renumbering, TriangulationError, VertexId,
+};
 use delmesh_predicates::{orient3d, Sign};
 
 /// Where each boundary face of a [`Mesh3`] is in [`Mesh3::faces`], by its sorted corners: for
@@ -19,8 +21,11 @@ pub struct FaceIndex(HashMap<[VertexId; 3], usize>);
 /// round is enough unless flat elements touch; the bound keeps any input bounded.
 const FLAT_SPLIT_ROUNDS: usize = 4;
 
-/// Whether the tetrahedron `p` is flat: volume at most 2^-30 of its longest edge cubed (the
-/// test of [`Mesh3::remove_flat_surface_elements`] too).
+/// Whether the tetrahedron `p` is flat: each corner within 2^-30 of the longest edge of the
+/// plane of the largest face (the test of [`Mesh3::remove_flat_surface_elements`] too). A
+/// volume test against the longest edge cubed alone would call a needle flat (an element of
+/// the long thin triangles of a CAD cylinder's cap, with a corner 0.11 off a facet 50 long,
+/// was taken out of the domain as lying flat on it).
 fn flat(p: [[f64; 3]; 4]) -> bool {
     let mut longest2 = 0.0f64;
     for i in 0..4 {
@@ -29,9 +34,18 @@ fn flat(p: [[f64; 3]; 4]) -> bool {
             longest2 = longest2.max(dot(d, d));
         }
     }
-    let volume = dot(cross(sub(p[1], p[0]), sub(p[2], p[0])), sub(p[3], p[0])).abs() / 6.0;
+    // Twice the largest face area, and six times the volume: the height over that face is
+    // their ratio.
+    let largest = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]]
+        .iter()
+        .map(|&[a, b, c]| {
+            let n = cross(sub(p[b], p[a]), sub(p[c], p[a]));
+            dot(n, n).sqrt()
+        })
+        .fold(0.0f64, f64::max);
+    let six_volume = dot(cross(sub(p[1], p[0]), sub(p[2], p[0])), sub(p[3], p[0])).abs();
     // (A NaN volume is not flat.)
-    volume <= longest2 * longest2.sqrt() * 2f64.powi(-30)
+    six_volume <= largest * longest2.sqrt() * 2f64.powi(-30)
 }
 
 fn sorted(mut v: [VertexId; 3]) -> [VertexId; 3] {
@@ -332,51 +346,32 @@ impl Mesh3 {
     /// the element and its neighbours on both sides go into the new point's cavity, and the
     /// new elements join it to faces off the plane. The insertion is the refinement's (its
     /// cavity never crosses a boundary face and must be star-shaped, the element's region only),
-    /// so the mesh stays constrained Delaunay, and it is refused where one of the new elements
-    /// would be flat itself (other points in or just by the plane: splitting there made more
-    /// flat elements than it took out); a refused centroid leaves the element as it was.
-    /// New points get the mean spacing of the element's corners. At most four
-    /// rounds over the flat elements left.
+    /// and it is refused where one of the new elements would be flat itself (other points in
+    /// or just by the plane: splitting there made more flat elements than it took out), and,
+    /// in a Delaunay mesh (all but a constrained recovery's), where the mesh would not stay
+    /// Delaunay: next to the surface the centroid's conflict region can reach across a
+    /// boundary face, where the cavity stops, and a new element on that face can then hold a
+    /// vertex of the cavity ([`ConstrainedTriangulation3::insert_keeping_delaunay`]; cheese's
+    /// meshes failed validation so). A refused centroid leaves the element as it was. New
+    /// points get the mean spacing of the element's corners. At most four rounds over the
+    /// flat elements left.
     pub fn split_flat_elements(&mut self) -> usize {
-        // Every slot tested once, in parallel; later rounds look only at the cells the
-        // insertions made and at the flat elements refused before.
-        let tri = self.ct.triangulation();
-        let mut todo: Vec<CellId> = (0..tri.num_cell_slots() as u32)
-            .into_par_iter()
-            .with_min_len(1 << 12)
-            .map(CellId)
-            .filter(|&c| tri.is_live(c) && self.ct.tag(c) != OUTSIDE && self.is_flat(c))
-            .collect();
+        let mut todo = self.flat_elements();
+        // A constrained recovery's mesh is not Delaunay next to the faces it flipped in.
+        let delaunay = self.history.method != RecoveryMethod3::Constrained
+            || self.history.constrained_fallback;
         let mut added = 0;
         for _ in 0..FLAT_SPLIT_ROUNDS {
             let mut next = Vec::new();
             let mut inserted = 0;
             for c in todo {
-                // A slot an earlier insertion reused may hold another element.
-                if !self.ct.is_live(c) || self.ct.tag(c) == OUTSIDE || !self.is_flat(c) {
-                    continue;
+                match self.split_at_centroid(c, delaunay) {
+                    Some(new_cells) => {
+                        next.extend_from_slice(new_cells);
+                        inserted += 1;
+                    }
+                    None => next.push(c),
                 }
-                let tri = self.ct.triangulation();
-                let v = tri.cell(c);
-                let corners = [v[0], v[1], v[2], v[3]];
-                let p = corners.map(|u| tri.vertex(u));
-                let centroid = [0, 1, 2].map(|k| 0.25 * (p[0][k] + p[1][k] + p[2][k] + p[3][k]));
-                let spacing = 0.25 * corners.iter().map(|u| self.spacing[u.index()]).sum::<f64>();
-                let tag = self.ct.tag(c);
-                // No new element may be flat itself (near other points in or by the plane).
-                let split = self.ct.insert_if_fine(
-                    centroid,
-                    c,
-                    |ct, cell| ct.tag(cell) == tag,
-                    |corners| !flat(corners),
-                );
-                let Ok(Some(nv)) = split else {
-                    next.push(c);
-                    continue;
-                };
-                self.set_interior_spacing(nv, spacing);
-                next.extend_from_slice(self.ct.last_new_cells());
-                inserted += 1;
             }
             added += inserted;
             if inserted == 0 {
@@ -387,6 +382,45 @@ impl Mesh3 {
             todo = next;
         }
         added
+    }
+
+    /// The flat elements (one parallel scan of the cell slots).
+    fn flat_elements(&self) -> Vec<CellId> {
+        let tri = self.ct.triangulation();
+        (0..tri.num_cell_slots() as u32)
+            .into_par_iter()
+            .with_min_len(1 << 12)
+            .map(CellId)
+            .filter(|&c| tri.is_live(c) && self.ct.tag(c) != OUTSIDE && self.is_flat(c))
+            .collect()
+    }
+
+    /// Puts a point at the centroid of element `c` if it is (still) flat, as
+    /// [`Self::split_flat_elements`] says; `keep_delaunay` refuses it where the mesh would not
+    /// stay Delaunay. Returns the new cells, or `None` if nothing changed.
+    fn split_at_centroid(&mut self, c: CellId, keep_delaunay: bool) -> Option<&[CellId]> {
+        // A slot an earlier insertion reused may hold another element.
+        if !self.ct.is_live(c) || self.ct.tag(c) == OUTSIDE || !self.is_flat(c) {
+            return None;
+        }
+        let tri = self.ct.triangulation();
+        let v = tri.cell(c);
+        let corners = [v[0], v[1], v[2], v[3]];
+        let p = corners.map(|u| tri.vertex(u));
+        let centroid = [0, 1, 2].map(|k| 0.25 * (p[0][k] + p[1][k] + p[2][k] + p[3][k]));
+        let spacing = 0.25 * corners.iter().map(|u| self.spacing[u.index()]).sum::<f64>();
+        let tag = self.ct.tag(c);
+        let accept = |ct: &ConstrainedTriangulation3, cell| ct.tag(cell) == tag;
+        // No new element may be flat itself (near other points in or by the plane).
+        let fine = |corners| !flat(corners);
+        let split = if keep_delaunay {
+            self.ct.insert_keeping_delaunay(centroid, c, accept, fine)
+        } else {
+            self.ct.insert_if_fine(centroid, c, accept, fine)
+        };
+        let nv = split.ok()??;
+        self.set_interior_spacing(nv, spacing);
+        Some(self.ct.last_new_cells())
     }
 
     /// Records the spacing of a vertex just inserted off the surface (by point generation,

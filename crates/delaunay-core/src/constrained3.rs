@@ -196,9 +196,28 @@ impl ConstrainedTriangulation3 {
         self.insert_if_fine(point, hint, accept, |_| true)
     }
 
-    /// [`Self::insert_if`], refused too if `fine` is false for one of the new cells, given by
-    /// its corners (the new point last) in the triangulation's internal units (a power of two
-    /// times the caller's: for tests that do not depend on the scale).
+    /// [`Self::insert_if`] into a mesh that is Delaunay but across protected faces, keeping it
+    /// so: refused too if a new cell would not be Delaunay across a face that is not
+    /// protected (a cavity that stops at protected faces is not always the whole conflict
+    /// region, and the cells built on such a face can then hold a vertex of the cavity), or if
+    /// `fine` is false for one of the new cells, given by its corners (the new point last) in
+    /// the triangulation's internal units (a power of two times the caller's: for tests that
+    /// do not depend on the scale).
+    ///
+    /// # Errors
+    /// A non-finite coordinate or one outside the range of the triangulation.
+    pub fn insert_keeping_delaunay(
+        &mut self,
+        point: [f64; 3],
+        hint: CellId,
+        accept: impl Fn(&Self, CellId) -> bool,
+        fine: impl Fn([[f64; 3]; 4]) -> bool,
+    ) -> Result<Option<VertexId>, TriangulationError> {
+        self.insert_checked(point, hint, accept, fine, true)
+    }
+
+    /// [`Self::insert_if`], refused too if `fine` is false for one of the new cells (as for
+    /// [`Self::insert_keeping_delaunay`], which also keeps the mesh Delaunay).
     ///
     /// # Errors
     /// A non-finite coordinate or one outside the range of the triangulation.
@@ -208,6 +227,18 @@ impl ConstrainedTriangulation3 {
         hint: CellId,
         accept: impl Fn(&Self, CellId) -> bool,
         fine: impl Fn([[f64; 3]; 4]) -> bool,
+    ) -> Result<Option<VertexId>, TriangulationError> {
+        self.insert_checked(point, hint, accept, fine, false)
+    }
+
+    /// [`Self::insert_if`] with `fine` and `keep_delaunay` (see [`Self::insert_keeping_delaunay`]).
+    fn insert_checked(
+        &mut self,
+        point: [f64; 3],
+        hint: CellId,
+        accept: impl Fn(&Self, CellId) -> bool,
+        fine: impl Fn([[f64; 3]; 4]) -> bool,
+        keep_delaunay: bool,
     ) -> Result<Option<VertexId>, TriangulationError> {
         let p = self.tri.scaled_input(point)?;
         let hint = if hint.index() < self.tri.simplices.len()
@@ -236,6 +267,7 @@ impl ConstrainedTriangulation3 {
                 let q = |k: usize| points[facet[k].index()];
                 fine([q(0), q(1), q(2), p])
             },
+            keep_delaunay,
         ) else {
             return Ok(None);
         };

@@ -692,7 +692,8 @@ impl<D: Dim> Triangulation<D> {
     /// success, `self.cavity.boundary[k]` is the facet `self.cavity.new_cells[k]` was built on,
     /// for the caller's per-cell data. `fine` sees the points, the corners of each new finite
     /// cell but the new point (the boundary facet it is built on) and `p`, and may refuse the
-    /// insertion too.
+    /// insertion too. With `keep_delaunay`, so is an insertion that would leave a new cell not
+    /// Delaunay across a facet that is not blocked (see [`Self::cavity_keeps_delaunay`]).
     pub(crate) fn insert_blocked(
         &mut self,
         p: D::Point,
@@ -700,6 +701,7 @@ impl<D: Dim> Triangulation<D> {
         start: CellId,
         blocked: impl Fn(FacetRef) -> bool,
         fine: impl Fn(&[D::Point], &[VertexId], D::Point) -> bool,
+        keep_delaunay: bool,
     ) -> Option<VertexId> {
         let mut cavity = self.seed_cavity(&[start]);
         let v = VertexId(self.input_index.len() as u32);
@@ -758,7 +760,66 @@ impl<D: Dim> Triangulation<D> {
                 });
             }
         }
+        let star_shaped =
+            star_shaped && (!keep_delaunay || self.cavity_keeps_delaunay(&cavity, v, p, &blocked));
         self.commit_cavity(cavity, star_shaped, p, input)
+    }
+
+    /// Whether every cell that filling `cavity` with `p` (as vertex `v`) would make is
+    /// Delaunay across each of its facets that is not `blocked`: against the vertex beyond
+    /// its facet on the cavity's boundary, and against the far vertex of each new neighbour,
+    /// by the very test [`Triangulation::validate`] makes. A search that stops at blocked
+    /// facets is not the whole conflict region: where a cell beyond one is in conflict, a new
+    /// cell on it may hold a vertex of the cavity's boundary that lies beyond that facet's
+    /// plane. A cavity on the hull is refused.
+    fn cavity_keeps_delaunay(
+        &self,
+        cavity: &Cavity,
+        v: VertexId,
+        p: D::Point,
+        blocked: &impl Fn(FacetRef) -> bool,
+    ) -> bool {
+        let point = |u: VertexId| if u == v { p } else { self.points[u.index()] };
+        let in_sphere = |cell: &[VertexId; 4], q: D::Point| {
+            // The cell's corners as a local array (the predicates read coordinates only).
+            let corners: [D::Point; 4] =
+                std::array::from_fn(|k| point(if k < D::C { cell[k] } else { v }));
+            let local = [0, 1, 2, 3].map(VertexId);
+            D::insphere_cell(&corners, &local, q) == Sign::Positive
+        };
+        // Each new cell's facets through `v`, by their other corners (sorted), with the cell
+        // (its boundary facet) and its corner opposite the facet.
+        let mut ridges: Vec<([VertexId; 3], usize, VertexId)> = Vec::new();
+        for (i, b) in cavity.boundary.iter().enumerate() {
+            let cell = &b.vertices;
+            if cell[..D::C].contains(&VertexId::GHOST) {
+                return false;
+            }
+            if !blocked(b.outside) {
+                let beyond = self.simplices[b.outside.cell().index()].v[b.outside.facet()];
+                if !beyond.is_ghost() && in_sphere(cell, self.points[beyond.index()]) {
+                    return false;
+                }
+            }
+            let apex = b.apex as usize;
+            for k in (0..D::C).filter(|&k| k != apex) {
+                let mut key = [VertexId::GHOST; 3];
+                let others = (0..D::C).filter(|&j| j != k && j != apex);
+                for (slot, j) in key.iter_mut().zip(others) {
+                    *slot = cell[j];
+                }
+                key[..D::C - 2].sort_unstable();
+                ridges.push((key, i, cell[k]));
+            }
+        }
+        ridges.sort_unstable_by_key(|r| r.0);
+        ridges.chunk_by(|a, b| a.0 == b.0).all(|pair| {
+            let [(_, i, x), (_, j, y)] = pair else {
+                return false;
+            };
+            !in_sphere(&cavity.boundary[*i].vertices, point(*y))
+                && !in_sphere(&cavity.boundary[*j].vertices, point(*x))
+        })
     }
 
     /// The cavity buffers, cleared, with `starts` in the cavity (marked inside, to search from).

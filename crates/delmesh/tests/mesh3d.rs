@@ -474,6 +474,86 @@ fn self_intersecting_surfaces_are_diagnosed() {
 
 /// The convex hull of `points` as a closed surface, triangles counter-clockwise seen from
 /// outside (from the hull's ghost cells).
+/// A star-shaped polyhedron of `n` spikes: the convex hull of random directions, each corner
+/// then moved along its direction to a random radius in `[r_min, 1]` (each triangle keeps its
+/// orientation seen from the origin, so the surface stays closed and simple).
+fn spiky_star(seed: u64, n: usize, r_min: f64) -> Plc3 {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+    let mut directions = Vec::with_capacity(n);
+    while directions.len() < n {
+        let d: [f64; 3] = [0, 1, 2].map(|_| rng.gen_range(-1.0..1.0));
+        let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        if (0.1..=1.0).contains(&r) {
+            directions.push(d.map(|x| x / r));
+        }
+    }
+    let mut plc = Plc3::default();
+    hull(&directions, 1, &mut plc);
+    for p in &mut plc.points {
+        let r = rng.gen_range(r_min..1.0);
+        *p = p.map(|x| x * r);
+    }
+    plc
+}
+
+#[test]
+fn a_cad_cylinder_of_needle_elements_keeps_its_volume() {
+    // 200 sides, height 50, each cap a fan of long thin triangles from one corner (as CAD
+    // exporters write them): 98 needle elements (a corner 0.11 off a facet 50 long) passed
+    // the old flatness test (volume against the longest edge cubed) and were taken off the
+    // domain as lying flat on the surface; 4e-5 of the volume was lost.
+    let n = 200u32;
+    let mut plc = Plc3::default();
+    for z in [0.0, 50.0] {
+        for k in 0..n {
+            let t = std::f64::consts::TAU * f64::from(k) / f64::from(n);
+            plc.points.push([t.cos(), t.sin(), z]);
+        }
+    }
+    let mut triangles = Vec::new();
+    for k in 0..n {
+        let (a, b) = (k, (k + 1) % n);
+        triangles.push([a, b, b + n]);
+        triangles.push([a, b + n, a + n]);
+    }
+    for k in 1..n - 1 {
+        triangles.push([0, k + 1, k]);
+        triangles.push([n, n + k, n + k + 1]);
+    }
+    for (facet, v) in triangles.into_iter().enumerate() {
+        plc.triangles.push(SurfaceTriangle {
+            v,
+            marker: 1,
+            facet: facet as u32,
+        });
+    }
+    let run = mesh_with(&plc, RecoveryMethod3::Conforming, MeshOptions3::default());
+    check(&plc, &run, 1, true);
+}
+
+/// Seeds of the spiky stars.
+const STAR_SEEDS: u64 = 6;
+
+#[test]
+fn flat_elements_beside_the_surface_of_a_spiky_star_are_split_only_where_it_stays_delaunay() {
+    // Spikes from 0.01 to 1: flat elements lie inside next to the surface, and the conflict
+    // region of a centroid there reaches across surface faces. The split's cavity stops at
+    // them, and the cells it then built on such a face could hold a vertex of the cavity
+    // (validation failed: "vertex lies inside the circumsphere"); such a split is refused.
+    for seed in 0..STAR_SEEDS {
+        let plc = spiky_star(seed, 200, 0.01);
+        for generation in [Some(PointGeneration3::default()), None] {
+            let base = MeshOptions3 {
+                generation,
+                ..MeshOptions3::default()
+            };
+            let run = mesh_with(&plc, RecoveryMethod3::Conforming, base);
+            check(&plc, &run, 1, true);
+        }
+    }
+}
+
 fn hull(points: &[[f64; 3]], marker: i32, plc: &mut Plc3) {
     use delmesh::recovery::SurfaceTriangle;
     const FACET: [[usize; 3]; 4] = [[1, 3, 2], [0, 2, 3], [0, 3, 1], [0, 1, 2]];
