@@ -207,6 +207,35 @@ fn small_angles_terminate() {
 }
 
 #[test]
+fn segments_an_ulp_apart_are_an_error_not_a_hang() {
+    // A loop inside a square whose sides x = 2 and x = 2 + 1 ulp run side by side (found by
+    // fuzzing): every split point rounds onto the wrong side of the other side, the missing
+    // pieces multiply by 1.8 a pass, and stitching ran for minutes towards 10^11 points. It
+    // now stops, naming the segment; flips need no point and recover it.
+    let loops = vec![
+        square([5.0, 5.0], 5.0, true),
+        vec![
+            [2.0, 2.0],
+            [2.0, 8.0],
+            [2.000000000000001, 8.0],
+            [2.0000000000000004, 2.5],
+        ],
+    ];
+    let plc = plc_of(&loops);
+    for method in [RecoveryMethod::Stitch, RecoveryMethod::APriori] {
+        let err = BoundaryRecovery::new(method).run(&plc).unwrap_err();
+        assert!(
+            matches!(err, RecoveryError::NotRecovered { segment: 4, .. }),
+            "{method:?}: {err}"
+        );
+    }
+    let mesh = BoundaryRecovery::new(RecoveryMethod::Constrained)
+        .run(&plc)
+        .unwrap();
+    mesh.cdt.validate().unwrap();
+}
+
+#[test]
 fn crossing_segments_are_named() {
     let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
     plc.first_index = 1;
@@ -258,6 +287,15 @@ fn bad_input_is_reported() {
         BoundaryRecovery::default().run(&plc),
         Err(RecoveryError::NonFinite { point: 1 })
     ));
+    // A coordinate beyond the predicates' range, named in the input's numbering (from 1).
+    let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
+    plc.first_index = 1;
+    plc.points.push([0.5, 1e-300]);
+    let err = BoundaryRecovery::default().run(&plc).unwrap_err();
+    assert!(
+        err.to_string().starts_with("point 5: coordinate 1e-300"),
+        "{err}"
+    );
     // An open polyline encloses nothing.
     let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
     plc.segments.pop();

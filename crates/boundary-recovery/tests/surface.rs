@@ -698,14 +698,44 @@ fn facet_segments_and_points_become_edges_and_vertices() {
 }
 
 #[test]
-fn facet_errors() {
+fn a_non_planar_quadrilateral_is_two_triangles() {
+    // A corner of a cube raised: its three quadrilaterals are no longer planar (as a curved
+    // surface's quadrilaterals in an OFF, OBJ or gmsh file); each is cut by its shorter
+    // diagonal, in its loop's orientation, and the surface stays closed.
     let (mut points, facets) = unit_cube_facets();
+    points[7] = [1.25, 1.25, 1.25];
+    let plc = Plc3::from_polygon_facets(points, &facets, 0).unwrap();
+    assert_eq!(plc.triangles.len(), 12);
+    let s = ok(&plc);
+    assert!(s.components[0].outward);
+    // The volume of the cube and of the three tetrahedra the raised corner adds over the
+    // cuts through its neighbours 3, 5 and 6 (the shorter diagonals avoid corner 7).
+    let raised = 3.0 * (0.25 * 0.5 + 0.25 * 0.5 + 0.25 * 0.0) / 6.0;
+    assert!(
+        (s.components[0].volume - (1.0 + raised)).abs() < 1e-12,
+        "{}",
+        s.components[0].volume
+    );
+    // Any other non-planar facet is still an error.
+    let (mut points, mut facets) = unit_cube_facets();
+    points.push([0.5, 1.0, 1.0]);
+    facets[1].polygons[0] = vec![4, 5, 7, 8, 6];
+    points[7][2] = 1.25;
+    assert!(Plc3::from_polygon_facets(points, &facets, 0).is_err());
+}
+
+#[test]
+fn facet_errors() {
+    let (mut points, mut facets) = unit_cube_facets();
+    // A pentagon (a quadrilateral is cut in two), one corner raised.
+    points.push([0.5, 1.0, 1.0]);
+    facets[1].polygons[0] = vec![4, 5, 7, 8, 6];
     points[7][2] = 1.25;
     assert_eq!(
         Plc3::from_polygon_facets(points, &facets, 1)
             .unwrap_err()
             .to_string(),
-        "facet 2 is not planar: point 7 is off the plane of points 5, 6, 8"
+        "facet 2 is not planar: point 9 is off the plane of points 5, 6, 8"
     );
     let p = vec![
         [0.0, 0.0, 0.0],

@@ -52,6 +52,30 @@ pub enum TriangulationError {
     TooManyPoints(usize),
 }
 
+impl TriangulationError {
+    /// The error with its point index shifted by `first` (the number of the first point in
+    /// the caller's numbering, 1 for a file numbered from 1).
+    pub fn numbered_from(self, first: usize) -> Self {
+        match self {
+            TriangulationError::NonFinite { index, axis, value } => TriangulationError::NonFinite {
+                index: index + first,
+                axis,
+                value,
+            },
+            TriangulationError::CoordinateRange {
+                index,
+                value,
+                largest,
+            } => TriangulationError::CoordinateRange {
+                index: index + first,
+                value,
+                largest,
+            },
+            other => other,
+        }
+    }
+}
+
 /// Why an operation on a [`crate::ConstrainedTriangulation2`] failed. Vertex ids are the
 /// triangulation's; map them to input numbers with `Triangulation::input_index`.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

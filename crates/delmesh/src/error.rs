@@ -68,6 +68,15 @@ pub enum Error {
     /// points and segments are named in the input's numbering.
     #[error(transparent)]
     Recovery(#[from] RecoveryError),
+    /// The Delaunay restoration after 3D point generation and smoothing fell back on
+    /// triangulating the final points again, and could not recover the refined surface there:
+    /// the input was recovered, but interior points crowd the surface.
+    #[error(
+        "after point generation and smoothing, restoring the Delaunay property: {0} (interior \
+         points crowd the surface there; --no-flips keeps the smoothed mesh, or try another \
+         --recovery)"
+    )]
+    Restoration(RecoveryError),
     /// Automatic point generation failed (bad α or spacing).
     #[error(transparent)]
     PointGeneration(#[from] PointGenError),
@@ -125,24 +134,7 @@ impl Error {
     /// A kernel error about the points of `file`, its point indices shifted by `first_index` so
     /// they match the index column of the file.
     pub(crate) fn triangulation(file: &Path, source: TriangulationError, first_index: u32) -> Self {
-        let shift = first_index as usize;
-        let source = match source {
-            TriangulationError::NonFinite { index, axis, value } => TriangulationError::NonFinite {
-                index: index + shift,
-                axis,
-                value,
-            },
-            TriangulationError::CoordinateRange {
-                index,
-                value,
-                largest,
-            } => TriangulationError::CoordinateRange {
-                index: index + shift,
-                value,
-                largest,
-            },
-            other => other,
-        };
+        let source = source.numbered_from(first_index as usize);
         Error::Triangulation {
             file: file.to_path_buf(),
             source,
@@ -163,6 +155,7 @@ impl Error {
             | Error::MissingField { file, .. } => Some(file),
             Error::UnknownDemo { .. }
             | Error::Recovery(_)
+            | Error::Restoration(_)
             | Error::PointGeneration(_)
             | Error::Smoothing(_)
             | Error::Internal(_) => None,

@@ -476,7 +476,7 @@ pub fn restore_after_smoothing(
 /// only where they cannot finish.
 ///
 /// # Errors
-/// As [`BoundaryRecovery3::run`].
+/// [`Error::Restoration`] with [`BoundaryRecovery3::run`]'s error.
 pub fn restore_delaunay(
     arrays: &MeshArrays3,
     plc: &Plc3,
@@ -534,7 +534,7 @@ pub fn restore_delaunay(
     if let Some(n) = max_steiner_points {
         recovery = recovery.max_steiner_points(n);
     }
-    Ok(recovery.run(&surface)?)
+    recovery.run(&surface).map_err(Error::Restoration)
 }
 
 impl MeshRun3 {

@@ -78,13 +78,23 @@ pub fn parse_stl(bytes: &[u8], file: &Path) -> Result<SurfaceFile, IoError> {
 }
 
 /// The binary solids the file is made of, as (offset of the block's header, triangle count),
-/// when their headers and counts cover the file exactly (one block for an ordinary file).
+/// when their headers and counts cover the file (one block for an ordinary file). Fewer bytes
+/// than a header after the last block are padding some writers add, and ignored; a file
+/// whose only header counts 0 triangles but whose size is that of whole triangles holds
+/// those (a writer that never went back to fill the count in).
 fn binary_blocks(bytes: &[u8]) -> Option<Vec<(usize, usize)>> {
     let mut blocks = Vec::new();
     let mut at = 0usize;
     while at < bytes.len() {
+        if !blocks.is_empty() && bytes.len() - at < 84 {
+            break;
+        }
         let count = bytes.get(at + 80..at + 84)?;
-        let n = u32::from_le_bytes([count[0], count[1], count[2], count[3]]) as usize;
+        let mut n = u32::from_le_bytes([count[0], count[1], count[2], count[3]]) as usize;
+        let rest = bytes.len() - 84;
+        if at == 0 && n == 0 && rest > 0 && rest % 50 == 0 {
+            n = rest / 50;
+        }
         let end = (at + 84).checked_add(n.checked_mul(50)?)?;
         if end > bytes.len() {
             return None;

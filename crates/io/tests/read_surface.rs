@@ -340,8 +340,8 @@ fn binary_stl_solids_one_after_another() {
     let (offset, message) = binary_error(parse_stl(&bad, Path::new("b.stl")));
     assert_eq!(offset, at as u64);
     assert!(message.contains("triangle 3: corner 1"), "{message}");
-    // One byte too many: the blocks no longer cover the file, the first header is blamed.
-    bytes.push(0);
+    // One byte too few: the blocks no longer cover the file, the first header is blamed.
+    bytes.pop();
     let (offset, message) = binary_error(parse_stl(&bytes, Path::new("b.stl")));
     assert_eq!(offset, 80);
     assert!(message.contains("declares 2 triangles"), "{message}");
@@ -382,9 +382,26 @@ fn binary_stl_even_with_a_solid_header() {
     let (offset, message) = err(&good[..good.len() - 1]);
     assert_eq!(offset, 80);
     assert_eq!(message, "the binary STL header declares 2 triangles, which take 184 bytes, but the file has 183 bytes");
+    // Padding shorter than a header after the triangles is ignored (some writers add it), and
+    // a count left at 0 is read off the size of whole triangles.
     let mut longer = good.clone();
-    longer.push(0);
-    assert_eq!(err(&longer).0, 80);
+    longer.extend_from_slice(&[0; 7]);
+    let padded = parse_stl(&longer, Path::new("b.stl")).unwrap();
+    assert_eq!(
+        polygons(&padded),
+        polygons(&parse_stl(&good, Path::new("b.stl")).unwrap())
+    );
+    let mut uncounted = good.clone();
+    uncounted[80..84].copy_from_slice(&[0; 4]);
+    assert_eq!(
+        parse_stl(&uncounted, Path::new("b.stl"))
+            .unwrap()
+            .facets
+            .len(),
+        2
+    );
+    uncounted.push(0);
+    assert_eq!(err(&uncounted[..uncounted.len() - 2]).0, 80);
     assert_eq!(err(b"abc").0, 0);
     let nan = binary_stl(
         b"",

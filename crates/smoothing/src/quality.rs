@@ -239,10 +239,10 @@ impl fmt::Display for QualityReport {
         writeln!(f)?;
         writeln!(
             f,
-            "areas: min {:.4e}, max {:.4e}, total {:.6}; neighbour area ratio: max {:.2}, mean {:.3}",
+            "areas: min {:.4e}, max {:.4e}, total {}; neighbour area ratio: max {:.2}, mean {:.3}",
             self.min_area,
             self.max_area,
-            self.total_area,
+            total(self.total_area),
             self.max_neighbour_area_ratio,
             self.mean_neighbour_area_ratio
         )
@@ -342,4 +342,15 @@ fn ratios_across(across: &[[u32; 3]], areas: &[f64]) -> (f64, f64, usize) {
         .fold((1.0f64, 0.0, 0usize), |(w, s, c), p| {
             (w.max(p.0), s + p.1, c + p.2)
         })
+}
+
+/// A total area or volume for the summary: six decimals for ordinary sizes, seven significant
+/// digits in scientific notation for tiny or huge ones (a model in metres a millimetre across
+/// printed as 0.000000 before).
+pub(crate) fn total(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e6).contains(&x.abs()) {
+        format!("{x:.6}")
+    } else {
+        format!("{x:.6e}")
+    }
 }

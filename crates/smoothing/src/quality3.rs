@@ -445,10 +445,10 @@ impl fmt::Display for QualityReport3 {
         )?;
         writeln!(
             f,
-            "volumes: min {:.4e}, max {:.4e}, total {:.6}; neighbour volume ratio: max {:.2}, mean {:.3}",
+            "volumes: min {:.4e}, max {:.4e}, total {}; neighbour volume ratio: max {:.2}, mean {:.3}",
             self.min_volume,
             self.max_volume,
-            self.total_volume,
+            crate::quality::total(self.total_volume),
             self.max_neighbour_volume_ratio,
             self.mean_neighbour_volume_ratio
         )

@@ -6,7 +6,10 @@
 //! planarity (`orient3d` of every point against three non-collinear ones), projected along the
 //! axis where it is not degenerate (an affine bijection of its plane, so `orient2d` in the
 //! projection decides exactly what it would in the plane), and triangulated by a
-//! [`ConstrainedTriangulation2`] with every polygon edge inserted as a constraint.
+//! [`ConstrainedTriangulation2`] with every polygon edge inserted as a constraint. A facet that
+//! is one loop of four points off one plane (the quadrilaterals of a curved surface's mesh, or
+//! ones planar but for rounding, as OFF, OBJ, Medit and gmsh files hold them) is cut into two
+//! triangles by its shorter diagonal instead; any other non-planar facet is an error.
 //!
 //! Which triangles belong to the facet is decided as in 2D boundary recovery (the crate's
 //! flood fill): regions inside an odd number of loops are in, so a loop inside the outer one
@@ -107,6 +110,16 @@ fn triangulate_facet(
         .iter()
         .find(|&&d| orient3d(sp(a), sp(b), sp(c), sp(d)) != Sign::Zero)
     {
+        // A quadrilateral of a surface mesh (a curved surface's, or one planar but for
+        // rounding, as OFF, OBJ, Medit and gmsh files hold them) is two triangles.
+        if let Some(pair) = split_quadrilateral(facet, sp) {
+            out.extend(pair.map(|v| SurfaceTriangle {
+                v,
+                marker: facet.marker,
+                facet: f,
+            }));
+            return Ok(());
+        }
         return Err(SurfaceError::FacetNotPlanar {
             facet: fname,
             point: name(d),
@@ -308,4 +321,32 @@ fn on_constrained_edge(cdt: &ConstrainedTriangulation2, c: CellId, p: [f64; 2]) 
         cdt.is_constrained(c, i)
             && orient2d(tri.vertex(v[(i + 1) % 3]), tri.vertex(v[(i + 2) % 3]), p) == Sign::Zero
     })
+}
+
+/// The two triangles of a facet that is one non-planar loop of four points and no hole: cut
+/// by the shorter diagonal (the other where that one leaves a triangle with collinear
+/// corners), both in the loop's order. `None` for any other facet, or if both cuts leave one.
+fn split_quadrilateral(facet: &PolygonFacet, sp: impl Fn(u32) -> P) -> Option<[[u32; 3]; 2]> {
+    let [p, ..] = facet.polygons.as_slice() else {
+        return None;
+    };
+    if facet.polygons.len() != 1 || !facet.holes.is_empty() || p.len() != 4 {
+        return None;
+    }
+    let length2 = |i: usize, j: usize| {
+        let (u, w) = (sp(p[i]), sp(p[j]));
+        (0..3).map(|k| (u[k] - w[k]) * (u[k] - w[k])).sum::<f64>()
+    };
+    let cuts = [
+        [[p[0], p[1], p[2]], [p[0], p[2], p[3]]],
+        [[p[0], p[1], p[3]], [p[1], p[2], p[3]]],
+    ];
+    let first = usize::from(length2(1, 3) < length2(0, 2));
+    [first, 1 - first]
+        .into_iter()
+        .map(|k| cuts[k])
+        .find(|pair| {
+            pair.iter()
+                .all(|t| !collinear(sp(t[0]), sp(t[1]), sp(t[2])))
+        })
 }
