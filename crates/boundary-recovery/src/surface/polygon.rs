@@ -11,19 +11,16 @@
 //! ones planar but for rounding, as OFF, OBJ, Medit and gmsh files hold them) is cut into two
 //! triangles by its shorter diagonal instead; any other non-planar facet is an error.
 //!
-//! Which triangles belong to the facet is decided as in 2D boundary recovery (the crate's
-//! flood fill): regions inside an odd number of loops are in, so a loop inside the outer one
-//! bounds a hole without needing a hole point (this differs from TetGen, where an inner
-//! polygon without a hole point is only a constraint), and the region around each hole point
-//! is removed. A facet's triangles all have one orientation: that of its first loop's vertex
+//! Which triangles belong to the facet is decided as TetGen does: every region the polygons
+//! enclose is in, and the region around each hole point is removed; a polygon inside another
+//! without a hole point is imprinted on the facet (its edges become edges of the facet's
+//! triangles), not a hole. A facet's triangles all have one orientation: that of its first loop's vertex
 //! order (the outer boundary by convention), i.e. a triangle beside that loop traverses the
 //! shared edge in the loop's direction.
 
 use super::check::scaled_points;
 use super::error::SurfaceError;
 use super::intersect::{collinear, orient2d, orient3d, project, projection_axis, P};
-use crate::classify::{classify, OUTSIDE};
-use crate::plc::Plc2;
 use crate::plc3::SurfaceTriangle;
 use delmesh_delaunay_core::{
     CellId, ConstrainedTriangulation2, ConstraintError, Location, Triangulation2, VertexId,
@@ -262,15 +259,12 @@ fn triangulate_facet(
         }
         holes2.push(p);
     }
-    let plc2 = Plc2 {
-        holes: holes2,
-        ..Default::default()
-    };
-    if classify(&mut cdt, &plc2).is_err() {
+    let within = facet_cells(&mut cdt, &holes2);
+    if !within.contains(&true) {
         return Err(SurfaceError::FacetEmpty { facet: fname });
     }
     let tri = cdt.triangulation();
-    let inside = |c: CellId| !tri.is_ghost(c) && cdt.tag(c) != OUTSIDE;
+    let inside = |c: CellId| within[c.index()];
 
     // Orientation: a triangle beside the first loop that can tell traverses its edge forward.
     let mut keep = true;
@@ -308,6 +302,42 @@ fn triangulate_facet(
         });
     }
     Ok(())
+}
+
+/// Which cells (by slot) belong to the facet, as TetGen reads a facet: every cell enclosed by
+/// its polygons (one not reached from the convex hull without crossing a polygon edge), but
+/// those reached from a hole point. A polygon inside another is imprinted on the facet (an
+/// edge between two patches), not a hole.
+fn facet_cells(cdt: &mut ConstrainedTriangulation2, holes: &[[f64; 2]]) -> Vec<bool> {
+    let tri = cdt.triangulation();
+    let mut within: Vec<bool> = (0..tri.num_cell_slots() as u32)
+        .map(|c| tri.is_live(CellId(c)) && !tri.is_ghost(CellId(c)))
+        .collect();
+    let mut stack: Vec<CellId> = tri.all_cells().filter(|&c| tri.is_ghost(c)).collect();
+    let mut starts: Vec<CellId> = Vec::new();
+    for &h in holes {
+        if let Location::Cell(c) = cdt.locate(h) {
+            starts.push(c);
+        }
+    }
+    let tri = cdt.triangulation();
+    for c in starts {
+        if within[c.index()] {
+            within[c.index()] = false;
+            stack.push(c);
+        }
+    }
+    // Flood across edges that are not polygon edges.
+    while let Some(c) = stack.pop() {
+        for i in 0..3 {
+            let n = tri.neighbor_facet(c, i).cell();
+            if within[n.index()] && !cdt.is_constrained(c, i) {
+                within[n.index()] = false;
+                stack.push(n);
+            }
+        }
+    }
+    within
 }
 
 /// Whether `p`, in the closed finite cell `c`, lies on one of its constrained edges.
