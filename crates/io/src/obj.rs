@@ -56,7 +56,7 @@ pub fn parse_obj(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
     let mut tags: Vec<(i32, i32)> = Vec::new();
     let mut groups = Names::default();
     let mut materials = Names::default();
-    for (line, toks) in data_lines(text) {
+    for (line, toks) in continued(data_lines(text)) {
         match toks[0] {
             "v" => {
                 if toks.len() < 4 {
@@ -129,5 +129,36 @@ pub fn parse_obj(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
         },
         first_index: 1,
         ..SurfaceFile::default()
+    })
+}
+
+/// Joins a line ending in a backslash with the next (the OBJ format's line continuation),
+/// numbered as its first line.
+fn continued<'t>(
+    lines: impl Iterator<Item = (usize, Vec<&'t str>)>,
+) -> impl Iterator<Item = (usize, Vec<&'t str>)> {
+    let mut pending: Option<(usize, Vec<&'t str>)> = None;
+    let mut lines = lines.fuse();
+    std::iter::from_fn(move || loop {
+        let Some((line, toks)) = lines.next() else {
+            return pending.take();
+        };
+        let (line, mut toks) = match pending.take() {
+            Some((first, mut head)) => {
+                head.extend(toks);
+                (first, head)
+            }
+            None => (line, toks),
+        };
+        match toks.last().and_then(|t| t.strip_suffix('\\')) {
+            Some(rest) => {
+                toks.pop();
+                if !rest.is_empty() {
+                    toks.push(rest);
+                }
+                pending = Some((line, toks));
+            }
+            None => return Some((line, toks)),
+        }
     })
 }

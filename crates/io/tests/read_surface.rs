@@ -528,6 +528,22 @@ f 4 3 5
     }
 }
 
+#[test]
+fn obj_lines_continue_after_a_backslash() {
+    // A face split over three lines (the backslash alone or at the end of a token), and an
+    // error after it numbered by its own line.
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 \\\n 2 \\\n 3\nf 1 2\\\n4\n";
+    let bad = format!("{text}f 1 2 x\n");
+    let (line, message) = parse_error(parse_obj(&bad, Path::new("m.obj")));
+    assert_eq!(
+        (line, message.as_str()),
+        (10, "expected a vertex index in 'x'")
+    );
+    let s = parse_obj(text, Path::new("m.obj")).unwrap();
+    assert_eq!(polygons(&s), [vec![0, 1, 2], vec![0, 1, 3]]);
+    assert_eq!(s.facets[1].line, 8);
+}
+
 // ---------------------------------------------------------------------------------- Medit
 
 #[test]
