@@ -351,7 +351,7 @@ impl Mesh3 {
     /// in a Delaunay mesh (all but a constrained recovery's), where the mesh would not stay
     /// Delaunay: next to the surface the centroid's conflict region can reach across a
     /// boundary face, where the cavity stops, and a new element on that face can then hold a
-    /// vertex of the cavity ([`ConstrainedTriangulation3::insert_keeping_delaunay`]; cheese's
+    /// vertex of the cavity ([`ConstrainedTriangulation3::insert_if_fine`]; cheese's
     /// meshes failed validation so). A refused centroid leaves the element as it was. New
     /// points get the mean spacing of the element's corners. At most four rounds over the
     /// flat elements left.
@@ -413,12 +413,10 @@ impl Mesh3 {
         let accept = |ct: &ConstrainedTriangulation3, cell| ct.tag(cell) == tag;
         // No new element may be flat itself (near other points in or by the plane).
         let fine = |corners| !flat(corners);
-        let split = if keep_delaunay {
-            self.ct.insert_keeping_delaunay(centroid, c, accept, fine)
-        } else {
-            self.ct.insert_if_fine(centroid, c, accept, fine)
-        };
-        let nv = split.ok()??;
+        let nv = self
+            .ct
+            .insert_if_fine(centroid, c, accept, fine, keep_delaunay)
+            .ok()??;
         self.set_interior_spacing(nv, spacing);
         Some(self.ct.last_new_cells())
     }

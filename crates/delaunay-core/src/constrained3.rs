@@ -193,46 +193,20 @@ impl ConstrainedTriangulation3 {
         hint: CellId,
         accept: impl Fn(&Self, CellId) -> bool,
     ) -> Result<Option<VertexId>, TriangulationError> {
-        self.insert_if_fine(point, hint, accept, |_| true)
+        self.insert_if_fine(point, hint, accept, |_| true, false)
     }
 
-    /// [`Self::insert_if`] into a mesh that is Delaunay but across protected faces, keeping it
-    /// so: refused too if a new cell would not be Delaunay across a face that is not
-    /// protected (a cavity that stops at protected faces is not always the whole conflict
-    /// region, and the cells built on such a face can then hold a vertex of the cavity), or if
-    /// `fine` is false for one of the new cells, given by its corners (the new point last) in
-    /// the triangulation's internal units (a power of two times the caller's: for tests that
-    /// do not depend on the scale).
-    ///
-    /// # Errors
-    /// A non-finite coordinate or one outside the range of the triangulation.
-    pub fn insert_keeping_delaunay(
-        &mut self,
-        point: [f64; 3],
-        hint: CellId,
-        accept: impl Fn(&Self, CellId) -> bool,
-        fine: impl Fn([[f64; 3]; 4]) -> bool,
-    ) -> Result<Option<VertexId>, TriangulationError> {
-        self.insert_checked(point, hint, accept, fine, true)
-    }
-
-    /// [`Self::insert_if`], refused too if `fine` is false for one of the new cells (as for
-    /// [`Self::insert_keeping_delaunay`], which also keeps the mesh Delaunay).
+    /// [`Self::insert_if`], refused too if `fine` is false for one of the new cells, given by
+    /// its corners (the new point last) in the triangulation's internal units (a power of two
+    /// times the caller's: for tests that do not depend on the scale). With `keep_delaunay`,
+    /// for a mesh that is Delaunay but across protected faces, refused too if a new cell would
+    /// not be Delaunay across a face that is not protected: a cavity that stops at protected
+    /// faces is not always the whole conflict region, and the cells built on such a face can
+    /// then hold a vertex of the cavity.
     ///
     /// # Errors
     /// A non-finite coordinate or one outside the range of the triangulation.
     pub fn insert_if_fine(
-        &mut self,
-        point: [f64; 3],
-        hint: CellId,
-        accept: impl Fn(&Self, CellId) -> bool,
-        fine: impl Fn([[f64; 3]; 4]) -> bool,
-    ) -> Result<Option<VertexId>, TriangulationError> {
-        self.insert_checked(point, hint, accept, fine, false)
-    }
-
-    /// [`Self::insert_if`] with `fine` and `keep_delaunay` (see [`Self::insert_keeping_delaunay`]).
-    fn insert_checked(
         &mut self,
         point: [f64; 3],
         hint: CellId,

@@ -133,7 +133,7 @@ pub fn parse_obj(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
 }
 
 /// Joins a line ending in a backslash with the next (the OBJ format's line continuation),
-/// numbered as its first line.
+/// numbered as its first line. A lone backslash on the last line is no line at all.
 fn continued<'t>(
     lines: impl Iterator<Item = (usize, Vec<&'t str>)>,
 ) -> impl Iterator<Item = (usize, Vec<&'t str>)> {
@@ -141,7 +141,7 @@ fn continued<'t>(
     let mut lines = lines.fuse();
     std::iter::from_fn(move || loop {
         let Some((line, toks)) = lines.next() else {
-            return pending.take();
+            return pending.take().filter(|(_, toks)| !toks.is_empty());
         };
         let (line, mut toks) = match pending.take() {
             Some((first, mut head)) => {

@@ -91,9 +91,11 @@ fn binary_blocks(bytes: &[u8]) -> Option<Vec<(usize, usize)>> {
         }
         let count = bytes.get(at + 80..at + 84)?;
         let mut n = u32::from_le_bytes([count[0], count[1], count[2], count[3]]) as usize;
-        let rest = bytes.len() - 84;
-        if at == 0 && n == 0 && rest > 0 && rest % 50 == 0 {
-            n = rest / 50;
+        if at == 0 && n == 0 {
+            let rest = bytes.len() - 84;
+            if rest > 0 && rest % 50 == 0 {
+                n = rest / 50;
+            }
         }
         let end = (at + 84).checked_add(n.checked_mul(50)?)?;
         if end > bytes.len() {

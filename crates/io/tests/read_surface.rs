@@ -542,6 +542,9 @@ fn obj_lines_continue_after_a_backslash() {
     let s = parse_obj(text, Path::new("m.obj")).unwrap();
     assert_eq!(polygons(&s), [vec![0, 1, 2], vec![0, 1, 3]]);
     assert_eq!(s.facets[1].line, 8);
+    // A lone backslash on the last line (nothing to continue with) is no line, not a panic.
+    let s = parse_obj(&format!("{text}\\\n"), Path::new("m.obj")).unwrap();
+    assert_eq!(s.facets.len(), 2);
 }
 
 // ---------------------------------------------------------------------------------- Medit

@@ -14,9 +14,9 @@
 //! Which triangles belong to the facet is decided as TetGen does: every region the polygons
 //! enclose is in, and the region around each hole point is removed; a polygon inside another
 //! without a hole point is imprinted on the facet (its edges become edges of the facet's
-//! triangles), not a hole. A facet's triangles all have one orientation: that of its first loop's vertex
-//! order (the outer boundary by convention), i.e. a triangle beside that loop traverses the
-//! shared edge in the loop's direction.
+//! triangles), not a hole. A facet's triangles all have one orientation: that of its first
+//! loop's vertex order (the outer boundary by convention), i.e. a triangle beside that loop
+//! traverses the shared edge in the loop's direction.
 
 use super::check::scaled_points;
 use super::error::SurfaceError;
