@@ -4,7 +4,7 @@
 //!
 //! - `K` (default 700): a unit square with K boundary points per side, filled by automatic
 //!   point generation (K = 700 gives about 5·10^5 triangles, K = 1000 about 10^6) and smoothed;
-//! - `aerofoil N`: the two-element aerofoil demo with N points per element (N = 600, the
+//! - `aerofoil N`: the two-element aerofoil demo with N points per element (N = 760, the
 //!   demo's, gives about 50,000 triangles);
 //! - `--repeat R` (default 1): runs the pipeline R times and prints each stage's best and
 //!   median time (the machine is shared: the best is the least disturbed run).

@@ -150,7 +150,7 @@ pub const DOUBLE_ELLIPSOID_N: usize = geometry3::DOUBLE_ELLIPSOID_N;
 pub const FIGURE9_ALPHA: f64 = 0.57;
 
 /// Points per aerofoil element in the aerofoil demos (the mesh has about 50,000 triangles).
-pub const AEROFOIL_POINTS: usize = 600;
+pub const AEROFOIL_POINTS: usize = 760;
 
 /// What a demo produced.
 #[derive(Clone, Debug)]

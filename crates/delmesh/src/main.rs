@@ -80,6 +80,11 @@ struct MeshArgs {
     /// Add at most this many points automatically.
     #[arg(long, value_name = "N")]
     max_points: Option<usize>,
+    /// 2D: the spacing interpolated from an element's nodes is at least the candidate's
+    /// distance to them over R, so small holes or features grade out instead of filling the
+    /// domain at their spacing; `inf` is the paper's interpolation as it is.
+    #[arg(long, value_name = "R", default_value_t = 64.0)]
+    grading_limit: f64,
     /// No automatic points: mesh the boundary (and --points) only.
     #[arg(long)]
     no_points: bool,
@@ -371,6 +376,7 @@ fn mesh(args: &MeshArgs) -> Result<()> {
     }
     options.generation = (!args.no_points).then(|| PointGeneration {
         alpha: args.alpha,
+        grading_limit: args.grading_limit,
         max_points: args.max_points.unwrap_or(usize::MAX),
         ..PointGeneration::default()
     });

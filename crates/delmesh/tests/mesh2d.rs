@@ -23,6 +23,11 @@ fn plc_area(plc: &Plc2) -> f64 {
 }
 
 fn check_run(run: &MeshRun2, plc: &Plc2, name: &str) {
+    check_run_of_area(run, plc, name, plc_area(plc));
+}
+
+/// [`check_run`] for a domain of the given area (a domain with walls, whose loops overlap).
+fn check_run_of_area(run: &MeshRun2, plc: &Plc2, name: &str, exact: f64) {
     run.mesh
         .cdt
         .validate()
@@ -37,7 +42,6 @@ fn check_run(run: &MeshRun2, plc: &Plc2, name: &str) {
             * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
                 - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]));
     }
-    let exact = plc_area(plc);
     assert!(
         (area - exact).abs() <= 1e-9 * exact.abs(),
         "{name}: area {area} vs {exact}"
@@ -109,6 +113,55 @@ fn all_recovery_methods_with_and_without_smoothing() {
             check_run(&run, &plc, &format!("{recovery:?}"));
         }
     }
+}
+
+/// A closed polygon through `points`, appended to `plc` (an index of an earlier point where it
+/// passes through it).
+fn polygon(plc: &mut Plc2, points: &[[f64; 2]]) {
+    let ids: Vec<u32> = points
+        .iter()
+        .map(|p| match plc.points.iter().position(|q| q == p) {
+            Some(i) => i as u32,
+            None => {
+                plc.points.push(*p);
+                plc.points.len() as u32 - 1
+            }
+        })
+        .collect();
+    for (k, &a) in ids.iter().enumerate() {
+        let b = ids[(k + 1) % ids.len()];
+        plc.segments
+            .push(delmesh::recovery::Segment { a, b, marker: 1 });
+    }
+}
+
+#[test]
+fn tiny_holes_grade_out_instead_of_filling_the_domain() {
+    // Three square holes 1e-5 across in a unit square: every element whose nodes lie on the
+    // holes took their spacing however large it was, and generation filled the square at
+    // 1e-5 until memory ran out. With the grading limit: about 40,000 points (release).
+    let mut plc = Plc2::default();
+    polygon(&mut plc, &[[0., 0.], [1., 0.], [1., 1.], [0., 1.]]);
+    for c in [[0.25, 0.25], [0.75, 0.25], [0.5, 0.75]] {
+        let h = 1e-5;
+        let [x, y] = c;
+        polygon(&mut plc, &[[x, y], [x, y + h], [x + h, y + h], [x + h, y]]);
+        plc.holes.push([x + h / 2.0, y + h / 2.0]);
+    }
+    let run = mesh_plc(&plc, &MeshOptions2::default()).unwrap();
+    check_run(&run, &plc, "tiny holes");
+    let n = run.arrays.coords.len();
+    assert!(n < 100_000, "{n} points");
+    // The limit is a setting: below 1 is an error.
+    let options = MeshOptions2 {
+        generation: Some(delmesh::point_gen::PointGeneration {
+            grading_limit: 0.5,
+            ..Default::default()
+        }),
+        ..MeshOptions2::default()
+    };
+    let err = mesh_plc(&plc, &options).unwrap_err().to_string();
+    assert!(err.contains("grading limit"), "{err}");
 }
 
 /// A closed loop of `k` points per side around the square `[lo, hi]²`, counter-clockwise or

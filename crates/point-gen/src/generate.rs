@@ -10,7 +10,11 @@
 //! later stage's memory traffic benefits from). A candidate whose element an earlier insertion
 //! of the same pass has already changed is dropped, so two candidates of neighbouring elements
 //! do not both go in; the changed elements are looked at in the next pass. The new node keeps
-//! its `dp`. Insertion is constrained: a candidate never crosses or removes a boundary edge, and
+//! its `dp`, but for one limit beyond the paper: a candidate's interpolated spacing is at least
+//! its distance to the element's nearest node over the grading limit (64), up to the coarsest
+//! spacing of the boundary, so that a small feature's spacing does not fill a whole domain
+//! whose elements touch only small features.
+//! Insertion is constrained: a candidate never crosses or removes a boundary edge, and
 //! one that rounding put on a boundary edge or outside its region is refused. Passes end when
 //! one inserts nothing.
 //!
@@ -36,6 +40,9 @@ pub enum PointGenError {
     /// α must be a positive finite number.
     #[error("alpha must be positive and finite (got {0})")]
     BadAlpha(f64),
+    /// The grading limit must be at least 1.
+    #[error("the grading limit must be at least 1 (got {0})")]
+    BadGradingLimit(f64),
     /// A spacing value was not positive and finite at a candidate point.
     #[error("spacing {value} at ({x}, {y}) is not positive and finite")]
     BadSpacing {
@@ -80,6 +87,16 @@ pub const RENUMBER_MIN: usize = 1 << 16;
 pub struct PointGeneration {
     /// α: a candidate must be farther than `α·dp` from the nodes; larger α, fewer points.
     pub alpha: f64,
+    /// How much finer than an element the spacing interpolated from its nodes may be: the
+    /// candidate's spacing is at least its distance to the element's nearest node divided by
+    /// this (default 64), but not more than the coarsest spacing of the nodes at the start (an
+    /// evenly spaced boundary is filled evenly). The paper's interpolation carries a small
+    /// feature's spacing into every element whose nodes all lie on small features, however
+    /// large: three holes 1e-5 across in a unit square filled it at their spacing until memory
+    /// ran out. With the limit the spacing grows away from them instead. `f64::INFINITY` is
+    /// the paper's rule as it is. A background mesh's spacing, and sources, are used as they
+    /// are.
+    pub grading_limit: f64,
     /// Stop after adding this many points.
     pub max_points: usize,
     /// Stop after this many passes.
@@ -90,6 +107,7 @@ impl Default for PointGeneration {
     fn default() -> Self {
         PointGeneration {
             alpha: 1.0,
+            grading_limit: 64.0,
             max_points: usize::MAX,
             max_passes: 200,
         }
@@ -158,7 +176,17 @@ impl PointGeneration {
         if !(self.alpha > 0.0 && self.alpha.is_finite()) {
             return Err(PointGenError::BadAlpha(self.alpha));
         }
+        if self.grading_limit.is_nan() || self.grading_limit < 1.0 {
+            return Err(PointGenError::BadGradingLimit(self.grading_limit));
+        }
         let mut dp = node_spacing(mesh, field)?;
+        // The grading limit never coarsens past the coarsest spacing the nodes start with: a
+        // domain whose boundary is spaced evenly is filled evenly, as the paper's rule does.
+        let coarsest = dp
+            .iter()
+            .copied()
+            .filter(|h| h.is_finite())
+            .fold(0.0, f64::max);
         let mut report = GenerationReport::default();
         let mut added = 0usize;
         let mut elements = mesh.num_elements();
@@ -190,24 +218,26 @@ impl PointGeneration {
             let mut todo: Vec<(u64, [f64; 2], f64, f64)> = cells
                 .par_iter()
                 .with_min_len(1 << 10)
-                .filter_map(|&c| match self.candidate(mesh, c, dp_now, field) {
-                    Candidate::At { g, h, reach2 } => {
-                        let key = frame.key(g);
-                        debug_assert!(key < 1 << 32);
-                        Some(((key << 32) | u64::from(c.0), g, h, reach2))
-                    }
-                    Candidate::BadSpacing { .. } => {
-                        bad.store(true, Ordering::Relaxed);
-                        None
-                    }
-                    Candidate::Refused => None,
-                })
+                .filter_map(
+                    |&c| match self.candidate(mesh, c, dp_now, coarsest, field) {
+                        Candidate::At { g, h, reach2 } => {
+                            let key = frame.key(g);
+                            debug_assert!(key < 1 << 32);
+                            Some(((key << 32) | u64::from(c.0), g, h, reach2))
+                        }
+                        Candidate::BadSpacing { .. } => {
+                            bad.store(true, Ordering::Relaxed);
+                            None
+                        }
+                        Candidate::Refused => None,
+                    },
+                )
                 .collect();
             if bad.into_inner() {
                 // The first bad spacing in the order of the cells.
                 for &c in &cells {
                     if let Candidate::BadSpacing { value, at } =
-                        self.candidate(mesh, c, dp_now, field)
+                        self.candidate(mesh, c, dp_now, coarsest, field)
                     {
                         return Err(PointGenError::BadSpacing {
                             value,
@@ -285,7 +315,14 @@ impl PointGeneration {
 
     /// The candidate of cell `c` if it is an element: its centroid with its spacing, unless a
     /// node of `c` is within `α·dp` of it (most candidates fail here, before any walk).
-    fn candidate(&self, mesh: &Mesh2, c: CellId, dp: &[f64], field: &SpacingField) -> Candidate {
+    fn candidate(
+        &self,
+        mesh: &Mesh2,
+        c: CellId,
+        dp: &[f64],
+        coarsest: f64,
+        field: &SpacingField,
+    ) -> Candidate {
         // (The changed cells are not filtered beforehand: this is the one read of them.)
         if !mesh.is_element(c) {
             return Candidate::Refused;
@@ -297,16 +334,24 @@ impl PointGeneration {
             (p[0][0] + p[1][0] + p[2][0]) / 3.0,
             (p[0][1] + p[1][1] + p[2][1]) / 3.0,
         ];
-        let from_nodes = (dp[v[0].index()] + dp[v[1].index()] + dp[v[2].index()]) / 3.0;
+        let dist2 = |q: [f64; 2]| (q[0] - g[0]) * (q[0] - g[0]) + (q[1] - g[1]) * (q[1] - g[1]);
+        let d2 = p.map(dist2);
+        let mut from_nodes = (dp[v[0].index()] + dp[v[1].index()] + dp[v[2].index()]) / 3.0;
+        // The grading limit, up to the coarsest node spacing (rarely reached: the square root
+        // only then).
+        let nearest2 = d2[0].min(d2[1]).min(d2[2]);
+        let limit = self.grading_limit;
+        if from_nodes < coarsest && from_nodes * from_nodes * (limit * limit) < nearest2 {
+            from_nodes = (nearest2.sqrt() / limit).min(coarsest);
+        }
         let h = field.spacing(g, from_nodes);
         if !(h > 0.0 && h.is_finite()) {
             return Candidate::BadSpacing { value: h, at: g };
         }
         let reach = self.alpha * h;
         let reach2 = reach * reach;
-        let dist2 = |q: [f64; 2]| (q[0] - g[0]) * (q[0] - g[0]) + (q[1] - g[1]) * (q[1] - g[1]);
         // All three distances, then one branch (a branch per node went either way at random).
-        let [n0, n1, n2] = p.map(|q| dist2(q) <= reach2);
+        let [n0, n1, n2] = d2.map(|d| d <= reach2);
         if n0 | n1 | n2 {
             return Candidate::Refused;
         }
