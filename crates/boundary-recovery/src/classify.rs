@@ -5,10 +5,13 @@
 //! hull's ghost cells are outside, at depth 0; a component's depth is the fewest boundary edges
 //! crossed to reach it from outside. Closed loops nest, so odd depth is inside the domain and
 //! even depth is outside: the far field's inside is domain, a body's inside is not, an island in
-//! a lake is domain again. An open internal line (a wake) has the same component on both sides
-//! and changes nothing. Hole seeds then remove their component, and region seeds give theirs an
-//! attribute (and make it part of the domain, unless it touches the outside of the hull). A seed
-//! on a segment or at a vertex between two components is an error: it names neither.
+//! a lake is domain again. (So a region walled in by two others, as where two shapes cut along
+//! each other overlap, is a hole unless a region seed is in it: in 2D it cannot be told from a
+//! hole touching the boundary at two vertices; 3D tells them apart, see [`flood_fill`].) An
+//! open internal line (a wake) has the same component on both sides and changes nothing. Hole
+//! seeds then remove their component, and region seeds give theirs an attribute (and make it
+//! part of the domain, unless it touches the outside of the hull). A seed on a segment or at a
+//! vertex between two components is an error: it names neither.
 
 use crate::error::RecoveryError;
 use crate::plc::Plc2;
@@ -27,13 +30,15 @@ pub(crate) fn classify(
 ) -> Result<Vec<f64>, RecoveryError> {
     let tri = cdt.triangulation();
     let cells: Vec<CellId> = tri.all_cells().collect();
-    let (component, depth) = components_by_depth(
+    let components = flood_fill(
         &cells,
         3,
         |c, i| cdt.is_constrained(c, i),
         |c, i| tri.neighbor_facet(c, i).cell(),
         |c| tri.is_ghost(c),
+        None,
     );
+    let component = &components.of_cell;
     // The component at a seed: that of every cell whose closed triangle holds it. A seed on a
     // segment, or at a vertex, between two components does not say which one it means.
     let base = u64::from(plc.first_index);
@@ -76,45 +81,38 @@ pub(crate) fn classify(
         holes.push(component_at(cdt, h, "hole", k)?);
     }
     let tri = cdt.triangulation();
-    let (tags, attributes) = domain_tags(&cells, &component, &depth, &regions, &holes, |c| {
-        tri.is_ghost(c)
-    })?;
+    let (tags, attributes) =
+        domain_tags(&cells, &components, &regions, &holes, |c| tri.is_ghost(c))?;
     for (&c, tag) in cells.iter().zip(tags) {
         cdt.set_tag(c, tag);
     }
     Ok(attributes)
 }
 
-/// The tag of each of `cells` (in order) from the flood fill's components and depths: odd
-/// depth is the default region 0, a region seed's component (`Some` component, attribute)
-/// gets region `1 + k` unless it is outside the hull, a hole seed's component and every ghost
-/// cell are [`OUTSIDE`]. Returns the tags and the attribute of each region index. Shared by
-/// the 2D and 3D flood fills.
+/// The tag of each of `cells` (in order) from the flood fill's components: a component
+/// inside the domain is the default region 0, a region seed's component (`Some` component,
+/// attribute) gets region `1 + k` unless it is outside the hull, a hole seed's component and
+/// every ghost cell are [`OUTSIDE`]. Returns the tags and the attribute of each region index.
+/// Shared by the 2D and 3D flood fills.
 ///
 /// # Errors
 /// [`RecoveryError::EmptyDomain`] if no cell is inside.
 pub(crate) fn domain_tags(
     cells: &[CellId],
-    component: &[u32],
-    depth: &[u32],
+    components: &Components,
     regions: &[(Option<usize>, f64)],
     holes: &[Option<usize>],
     is_ghost: impl Fn(CellId) -> bool,
 ) -> Result<(Vec<u32>, Vec<f64>), RecoveryError> {
-    let mut region: Vec<u32> = depth
+    let mut region: Vec<u32> = components
+        .inside
         .iter()
-        .map(|&d| {
-            if d != u32::MAX && d % 2 == 1 {
-                0
-            } else {
-                OUTSIDE
-            }
-        })
+        .map(|&inside| if inside { 0 } else { OUTSIDE })
         .collect();
     let mut attributes = vec![0.0];
     for &(comp, attribute) in regions {
         if let Some(comp) = comp {
-            if depth[comp] > 0 && depth[comp] != u32::MAX {
+            if !components.exterior[comp] {
                 region[comp] = attributes.len() as u32;
             }
         }
@@ -129,7 +127,7 @@ pub(crate) fn domain_tags(
             if is_ghost(c) {
                 OUTSIDE
             } else {
-                region[component[c.index()] as usize]
+                region[components.of_cell[c.index()] as usize]
             }
         })
         .collect();
@@ -139,18 +137,41 @@ pub(crate) fn domain_tags(
     Ok((tags, attributes))
 }
 
+/// The flood fill's result: the component of each cell slot (indexed by `CellId`), and of
+/// each component whether it is outside the hull (holds ghost cells) and whether it is inside
+/// the domain by the nesting of the boundary.
+pub(crate) struct Components {
+    pub(crate) of_cell: Vec<u32>,
+    pub(crate) exterior: Vec<bool>,
+    pub(crate) inside: Vec<bool>,
+}
+
 /// Groups `cells` (each with `facets` facets) into components connected across facets that are
-/// not boundary facets, and gives each component its depth: the fewest boundary facets crossed
-/// to reach it from a ghost (outside) cell, `u32::MAX` if unreachable. Returns the component of
-/// each cell slot (indexed by `CellId`) and the depth of each component. Shared by the 2D and
+/// not boundary facets, and says which components the boundary encloses. Shared by the 2D and
 /// 3D flood fills.
-pub(crate) fn components_by_depth(
+///
+/// With `corners` (3D: a boundary face's vertices, sorted), the boundary faces are first split
+/// into *sheets*, connected across edges where exactly two boundary faces meet. A sheet that
+/// meets every other edge an even number of times is closed (a closed surface, even one
+/// touching another at a vertex or an edge): crossing it toggles inside and outside, so closed
+/// sheets nest. The other sheets are walls (a domain cut into regions, solids cut along each
+/// other) and are grouped by the edges they share; a group's inside is what cannot be reached
+/// from outside without crossing it. A component is inside the domain if it is inside an odd
+/// number of closed sheets and groups.
+///
+/// Without (2D) every boundary facet is taken as part of a closed loop: a component is inside
+/// if the fewest boundary facets crossed to reach it from outside is odd. In 2D a loop
+/// touching others at two vertices (a hole spanning a channel) and shapes cut along each other
+/// (a fragment) look the same, and the rule is the nesting of closed loops; region
+/// seeds say otherwise.
+pub(crate) fn flood_fill(
     cells: &[CellId],
     facets: usize,
     is_boundary: impl Fn(CellId, usize) -> bool,
     across: impl Fn(CellId, usize) -> CellId,
     is_ghost: impl Fn(CellId) -> bool,
-) -> (Vec<u32>, Vec<u32>) {
+    corners: Option<&dyn Fn(CellId, usize) -> [u32; 3]>,
+) -> Components {
     let slots = cells.iter().map(|c| c.index() + 1).max().unwrap_or(0);
     let mut component = vec![u32::MAX; slots];
     let mut n_components = 0u32;
@@ -175,46 +196,160 @@ pub(crate) fn components_by_depth(
         }
         n_components += 1;
     }
-    // Component adjacency across boundary facets, then depth by breadth-first search.
-    let mut adjacent: Vec<(u32, u32)> = Vec::new();
+    // The boundary facets, each once: the components on their two sides, and their corners.
+    let mut sides: Vec<(u32, u32)> = Vec::new();
+    let mut faces: Vec<[u32; 3]> = Vec::new();
     for &c in cells {
         for i in 0..facets {
-            if is_boundary(c, i) {
-                let (x, y) = (component[c.index()], component[across(c, i).index()]);
-                if x != y {
-                    adjacent.push((x, y));
+            let n = across(c, i);
+            if c.index() < n.index() && is_boundary(c, i) {
+                sides.push((component[c.index()], component[n.index()]));
+                if let Some(corners) = corners {
+                    faces.push(corners(c, i));
                 }
             }
+        }
+    }
+    let kinds = match corners {
+        Some(_) => sheet_kinds(&faces),
+        None => vec![CLOSED; sides.len()],
+    };
+    // Component adjacency across boundary facets, labelled by the facets' kind.
+    let mut adjacent: Vec<(u32, u32, u32)> = Vec::with_capacity(2 * sides.len());
+    for (&(x, y), &kind) in sides.iter().zip(&kinds) {
+        if x != y {
+            adjacent.push((x, y, kind));
+            adjacent.push((y, x, kind));
         }
     }
     adjacent.sort_unstable();
     adjacent.dedup();
     let nc = n_components as usize;
     let mut start = vec![0usize; nc + 1];
-    for &(x, _) in &adjacent {
+    for &(x, _, _) in &adjacent {
         start[x as usize + 1] += 1;
     }
     for k in 0..nc {
         start[k + 1] += start[k];
     }
-    let mut depth = vec![u32::MAX; nc];
-    let mut queue = VecDeque::new();
+    let mut exterior = vec![false; nc];
     for &c in cells {
         if is_ghost(c) {
-            let k = component[c.index()] as usize;
-            if depth[k] == u32::MAX {
-                depth[k] = 0;
-                queue.push_back(k);
+            exterior[component[c.index()] as usize] = true;
+        }
+    }
+    // Breadth-first from outside over the crossings not of kind `skip`: which components are
+    // reached, and the parity of the closed sheets crossed on the way.
+    let reach = |skip: u32| {
+        let mut parity = vec![u8::MAX; nc];
+        let mut queue: VecDeque<usize> = (0..nc).filter(|&k| exterior[k]).collect();
+        for &k in &queue {
+            parity[k] = 0;
+        }
+        while let Some(k) = queue.pop_front() {
+            for &(_, y, kind) in &adjacent[start[k]..start[k + 1]] {
+                if kind != skip && parity[y as usize] == u8::MAX {
+                    parity[y as usize] = parity[k] ^ u8::from(kind == CLOSED);
+                    queue.push_back(y as usize);
+                }
+            }
+        }
+        parity
+    };
+    let parity = reach(u32::MAX);
+    let mut inside: Vec<bool> = parity.iter().map(|&p| p == 1).collect();
+    let mut groups: Vec<u32> = kinds.iter().copied().filter(|&k| k != CLOSED).collect();
+    groups.sort_unstable();
+    groups.dedup();
+    for g in groups {
+        for (k, p) in reach(g).into_iter().enumerate() {
+            inside[k] ^= p == u8::MAX && parity[k] != u8::MAX;
+        }
+    }
+    Components {
+        of_cell: component,
+        exterior,
+        inside,
+    }
+}
+
+/// The kind of boundary facet: in a closed sheet.
+const CLOSED: u32 = u32::MAX - 1;
+
+/// The kind of each boundary face (given by its sorted corners): [`CLOSED`], or the group of
+/// walls it belongs to (see [`flood_fill`]).
+fn sheet_kinds(facets: &[[u32; 3]]) -> Vec<u32> {
+    // Every (edge, face) pair, sorted by edge.
+    let mut ridges: Vec<([u32; 2], u32)> = Vec::with_capacity(3 * facets.len());
+    for (f, v) in facets.iter().enumerate() {
+        let f = f as u32;
+        ridges.extend([([v[0], v[1]], f), ([v[0], v[2]], f), ([v[1], v[2]], f)]);
+    }
+    ridges.sort_unstable();
+    let runs: Vec<&[([u32; 2], u32)]> = ridges.chunk_by(|a, b| a.0 == b.0).collect();
+    let mut sheet = UnionFind::new(facets.len());
+    for run in &runs {
+        if let [(_, a), (_, b)] = run {
+            sheet.union(*a, *b);
+        }
+    }
+    // A sheet meeting some other edge an odd number of times is open: a wall.
+    let mut open = vec![false; facets.len()];
+    let mut at_ridge: Vec<u32> = Vec::new();
+    for run in runs.iter().filter(|r| r.len() != 2) {
+        at_ridge.clear();
+        at_ridge.extend(run.iter().map(|&(_, f)| sheet.find(f)));
+        at_ridge.sort_unstable();
+        for same in at_ridge.chunk_by(|a, b| a == b) {
+            if same.len() % 2 == 1 {
+                open[same[0] as usize] = true;
             }
         }
     }
-    while let Some(k) = queue.pop_front() {
-        for &(_, y) in &adjacent[start[k]..start[k + 1]] {
-            if depth[y as usize] == u32::MAX {
-                depth[y as usize] = depth[k] + 1;
-                queue.push_back(y as usize);
+    // Walls that share an edge form one group.
+    let mut group = UnionFind::new(facets.len());
+    for run in runs.iter().filter(|r| r.len() != 2) {
+        let mut walls = run
+            .iter()
+            .map(|&(_, f)| sheet.find(f))
+            .filter(|&s| open[s as usize]);
+        if let Some(first) = walls.next() {
+            for s in walls {
+                group.union(first, s);
             }
         }
     }
-    (component, depth)
+    (0..facets.len() as u32)
+        .map(|f| {
+            let s = sheet.find(f);
+            if open[s as usize] {
+                group.find(s)
+            } else {
+                CLOSED
+            }
+        })
+        .collect()
+}
+
+/// Disjoint sets of `0..n` (path halving, union by index).
+struct UnionFind(Vec<u32>);
+
+impl UnionFind {
+    fn new(n: usize) -> Self {
+        UnionFind((0..n as u32).collect())
+    }
+
+    fn find(&mut self, mut x: u32) -> u32 {
+        while self.0[x as usize] != x {
+            let up = self.0[self.0[x as usize] as usize];
+            self.0[x as usize] = up;
+            x = up;
+        }
+        x
+    }
+
+    fn union(&mut self, a: u32, b: u32) {
+        let (a, b) = (self.find(a), self.find(b));
+        self.0[a.max(b) as usize] = a.min(b);
+    }
 }

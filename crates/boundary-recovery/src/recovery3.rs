@@ -1251,9 +1251,10 @@ impl<'a> State<'a> {
     /// The domain's side of each facet (as `domain_sides` gives it, [`BOTH_SIDES`] for a wall
     /// between two regions, 0 where no tetrahedron on either side is in the domain) by the
     /// exterior deletion's rule applied to the recovered tetrahedralisation: the tetrahedra
-    /// grouped across faces that are not sub-faces, a group in the domain when the fewest
-    /// sub-faces crossed to reach it from outside is odd (hole seeds aside). For a surface with
-    /// walls, where the nesting of closed surfaces does not say which side is inside.
+    /// grouped across faces that are not sub-faces, a group in the domain when closed surfaces
+    /// and walls enclose it an odd number of times (`classify::flood_fill`; hole seeds aside).
+    /// For a surface with walls, where the nesting of closed surfaces does not say which side
+    /// is inside.
     fn sides_by_flood_fill(&self) -> Vec<f64> {
         let tri = self.ct.triangulation();
         let sorted = |mut t: [VertexId; 3]| {
@@ -1272,19 +1273,19 @@ impl<'a> State<'a> {
             sorted([v[(i + 1) % 4], v[(i + 2) % 4], v[(i + 3) % 4]])
         };
         let cells: Vec<CellId> = tri.all_cells().collect();
-        let (component, depth) = crate::classify::components_by_depth(
+        let components = crate::classify::flood_fill(
             &cells,
             4,
             |c, i| subface.contains_key(&face(c, i)),
             |c, i| tri.neighbor_facet(c, i).cell(),
             |c| tri.is_ghost(c),
+            Some(&|c, i| crate::classify3::face_corners(tri.cell(c), i)),
         );
         // Whether a tetrahedron of the domain lies along each facet's normal, and against it.
         let mut along = vec![false; self.facs.len()];
         let mut against = vec![false; self.facs.len()];
         for &c in &cells {
-            let d = depth[component[c.index()] as usize];
-            if tri.is_ghost(c) || d == u32::MAX || d % 2 == 0 {
+            if tri.is_ghost(c) || !components.inside[components.of_cell[c.index()] as usize] {
                 continue;
             }
             for i in 0..4 {

@@ -136,6 +136,55 @@ fn polygon(plc: &mut Plc2, points: &[[f64; 2]]) {
 }
 
 #[test]
+fn regions_walled_in_twice_follow_the_nesting_of_loops() {
+    // Two squares [0,2]² and [1,3]² cut at their crossings, as a CAD "fragment" writes them:
+    // the overlap [1,2]² is two boundaries from outside, so a hole by nesting (area 6), as a
+    // hole touching the boundary at two vertices must be; a region seed keeps it (area 7).
+    let mut plc = Plc2::default();
+    polygon(
+        &mut plc,
+        &[[0., 0.], [2., 0.], [2., 1.], [2., 2.], [1., 2.], [0., 2.]],
+    );
+    polygon(
+        &mut plc,
+        &[[1., 1.], [2., 1.], [3., 1.], [3., 3.], [1., 3.], [1., 2.]],
+    );
+    let run = mesh_plc(&plc, &MeshOptions2::default()).unwrap();
+    check_run_of_area(&run, &plc, "fragment", 6.0);
+    plc.regions.push(delmesh::recovery::RegionSeed {
+        point: [1.5, 1.5],
+        attribute: 2.0,
+        max_area: None,
+    });
+    for recovery in [RecoveryMethod::Stitch, RecoveryMethod::Constrained] {
+        let options = MeshOptions2 {
+            recovery,
+            ..MeshOptions2::default()
+        };
+        let run = mesh_plc(&plc, &options).unwrap();
+        check_run_of_area(&run, &plc, &format!("seeded {recovery:?}"), 7.0);
+    }
+    // A hole spanning a channel, touching its walls at two vertices, and one touching the
+    // boundary at one vertex.
+    let mut plc = Plc2::default();
+    polygon(
+        &mut plc,
+        &[[0., 0.], [2., 0.], [4., 0.], [4., 2.], [2., 2.], [0., 2.]],
+    );
+    polygon(&mut plc, &[[2., 0.], [1., 1.], [2., 2.], [3., 1.]]);
+    let run = mesh_plc(&plc, &MeshOptions2::default()).unwrap();
+    check_run_of_area(&run, &plc, "spanning hole", 6.0);
+    let mut plc = Plc2::default();
+    polygon(
+        &mut plc,
+        &[[0., 0.], [2., 0.], [4., 0.], [4., 4.], [0., 4.]],
+    );
+    polygon(&mut plc, &[[2., 0.], [1., 1.], [2., 2.], [3., 1.]]);
+    let run = mesh_plc(&plc, &MeshOptions2::default()).unwrap();
+    check_run_of_area(&run, &plc, "touching hole", 14.0);
+}
+
+#[test]
 fn tiny_holes_grade_out_instead_of_filling_the_domain() {
     // Three square holes 1e-5 across in a unit square: every element whose nodes lie on the
     // holes took their spacing however large it was, and generation filled the square at

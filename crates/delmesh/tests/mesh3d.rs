@@ -416,6 +416,74 @@ fn two_solids_written_one_after_the_other_share_their_face_as_a_wall() {
 }
 
 #[test]
+fn overlapping_cubes_cut_into_three_regions_keep_all_three() {
+    // The cubes [0,2]³ and [1,3]³ cut along each other (a gmsh "fragment"), in unit squares:
+    // the overlap [1,2]³ is walled in by the other cube's faces, two boundaries from outside,
+    // and is domain all the same (it was dropped as a hole: volume 14).
+    let id = |i: usize, j: usize, k: usize| (16 * i + 4 * j + k) as u32;
+    let mut plc = Plc3::default();
+    for i in 0..4 {
+        for j in 0..4 {
+            for k in 0..4 {
+                plc.points.push([i as f64, j as f64, k as f64]);
+            }
+        }
+    }
+    let label = |c: [i64; 3]| {
+        let inside = |lo: i64| c.iter().all(|&x| x >= lo && x < lo + 2);
+        (c.iter().all(|&x| (0..3).contains(&x)), inside(0), inside(1))
+    };
+    let empty = (false, false, false);
+    for axis in 0..3 {
+        for a in 0..4i64 {
+            for b in 0..3i64 {
+                for d in 0..3i64 {
+                    // The unit square at coordinate `a` along `axis` between voxels below/above.
+                    let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+                    let mut below = [0i64; 3];
+                    below[axis] = a - 1;
+                    below[u] = b;
+                    below[w] = d;
+                    let mut above = below;
+                    above[axis] = a;
+                    let (lb, la) = (label(below), label(above));
+                    let (lb, la) = (
+                        if lb.0 && (lb.1 || lb.2) { lb } else { empty },
+                        if la.0 && (la.1 || la.2) { la } else { empty },
+                    );
+                    if lb == la {
+                        continue;
+                    }
+                    let corner = |s: i64, t: i64| {
+                        let mut c = [0usize; 3];
+                        c[axis] = a as usize;
+                        c[u] = (b + s) as usize;
+                        c[w] = (d + t) as usize;
+                        id(c[0], c[1], c[2])
+                    };
+                    let mut quad = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)];
+                    if lb == empty {
+                        quad.reverse(); // outward is towards below
+                    }
+                    for v in [[quad[0], quad[1], quad[2]], [quad[0], quad[2], quad[3]]] {
+                        let facet = plc.triangles.len() as u32;
+                        plc.triangles.push(SurfaceTriangle {
+                            v,
+                            marker: 1,
+                            facet,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    for recovery in [RecoveryMethod3::Conforming, RecoveryMethod3::Constrained] {
+        let run = mesh_with(&plc, recovery, options(1.0));
+        check_enclosing(&plc, &run, 1, recovery == RecoveryMethod3::Conforming, 15.0);
+    }
+}
+
+#[test]
 fn two_bodies_a_priori() {
     let plc = geometry3::two_bodies(2);
     let run = mesh_plc3(
