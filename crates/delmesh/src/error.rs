@@ -117,6 +117,15 @@ pub enum Error {
         /// What is wrong, with the line.
         message: String,
     },
+    /// The domain is too large or too small for double precision meshing.
+    #[error(
+        "{what}: delmesh meshes coordinates up to 2^990 (about 1e298) in magnitude and domains \
+         at least 2^-990 (about 1e-298) across"
+    )]
+    OutOfRange {
+        /// What is out of range (a point and its coordinate, or the domain's extent).
+        what: String,
+    },
     /// A broken internal invariant (a bug in delmesh).
     #[error("internal error (a bug in delmesh): {0}")]
     Internal(String),
@@ -158,6 +167,7 @@ impl Error {
             | Error::Restoration(_)
             | Error::PointGeneration(_)
             | Error::Smoothing(_)
+            | Error::OutOfRange { .. }
             | Error::Internal(_) => None,
         }
     }

@@ -146,6 +146,7 @@ pub struct MeshRun3 {
 /// Invalid input (named in the input's numbering), a surface that could not be recovered, a
 /// domain with no element, or a bad option.
 pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> {
+    units::check_range(&plc.points, plc.first_index)?;
     let e = units::normalising_exponent(&plc.points);
     if e == 0 {
         return mesh_plc3_as_given(plc, options);

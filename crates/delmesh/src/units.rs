@@ -49,6 +49,47 @@ pub(crate) fn normalising_exponent<const N: usize>(points: &[[f64; N]]) -> i32 {
     e.clamp(-MAX_EXPONENT, MAX_EXPONENT.min(room))
 }
 
+/// The range delmesh meshes: coordinates up to `2^RANGE` in magnitude, domains at least
+/// `2^-RANGE` across (a margin under the triangulation's `2^±1000`, which its own scaling and
+/// the normalisation above share).
+const RANGE: i32 = 990;
+
+/// Refuses, before any meshing, a domain beyond [`RANGE`], naming the point (numbered from
+/// `first`) with the largest coordinate, or saying how small the domain is. (Non-finite
+/// coordinates are left to the triangulation, which names them.)
+pub(crate) fn check_range<const N: usize>(points: &[[f64; N]], first: u32) -> Result<(), Error> {
+    let limit = 2f64.powi(RANGE);
+    let magnitude = |p: &[f64; N]| p.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let Some((k, p)) = points
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.iter().all(|x| x.is_finite()))
+        .max_by(|a, b| magnitude(a.1).total_cmp(&magnitude(b.1)))
+    else {
+        return Ok(());
+    };
+    let number = k as u64 + u64::from(first);
+    if magnitude(p) > limit {
+        return Err(Error::OutOfRange {
+            what: format!("point {number} has a coordinate of {:e}", magnitude(p)),
+        });
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; N], [f64::NEG_INFINITY; N]);
+    for p in points.iter().filter(|p| p.iter().all(|x| x.is_finite())) {
+        for i in 0..N {
+            lo[i] = lo[i].min(p[i]);
+            hi[i] = hi[i].max(p[i]);
+        }
+    }
+    let extent = (0..N).map(|i| hi[i] - lo[i]).fold(0.0, f64::max);
+    if extent > 0.0 && extent < 1.0 / limit {
+        return Err(Error::OutOfRange {
+            what: format!("the points lie within {extent:e} of each other"),
+        });
+    }
+    Ok(())
+}
+
 fn scale<const N: usize>(p: [f64; N], f: f64) -> [f64; N] {
     p.map(|x| x * f)
 }
@@ -144,6 +185,30 @@ pub(crate) fn unscale_run3(run: &mut MeshRun3, e: i32) -> Result<(), Error> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn domains_beyond_the_range_are_refused_naming_a_point() {
+        // Both meshed for nothing and then refused as "(scaled problem): the mesh cannot be
+        // given back in units 2^900 times larger", naming no point.
+        let err = check_range(&[[0.0, 0.0], [1e308, 0.0], [0.0, 1e308]], 1).unwrap_err();
+        assert!(
+            err.to_string()
+                .starts_with("point 3 has a coordinate of 1e308"),
+            "{err}"
+        );
+        let tiny = [[0.0, 0.0, 0.0], [5e-324, 0.0, 0.0], [0.0, 5e-324, 1e-320]];
+        let err = check_range(&tiny, 0).unwrap_err();
+        assert!(
+            err.to_string().starts_with("the points lie within 1e-320"),
+            "{err}"
+        );
+        for extent in [1e-290, 1e-100, 1.0, 1e100, 1e290] {
+            check_range(&[[0.0, 0.0], [extent, extent]], 0).unwrap();
+        }
+        // Non-finite coordinates are the triangulation's to name; a single point is fine here.
+        check_range(&[[f64::NAN, 0.0], [1.0, 1.0]], 0).unwrap();
+        check_range(&[[1.0, 1.0]], 0).unwrap();
+    }
 
     #[test]
     fn ordinary_extents_are_not_scaled_and_others_land_in_one_to_two() {
