@@ -15,6 +15,7 @@
 
 use crate::error::RecoveryError;
 use crate::plc::Plc2;
+use crate::union_find::UnionFind;
 use delmesh_delaunay_core::{CellId, ConstrainedTriangulation2, Location};
 use delmesh_predicates::{orient2d, Sign};
 use std::collections::VecDeque;
@@ -329,27 +330,4 @@ fn sheet_kinds(facets: &[[u32; 3]]) -> Vec<u32> {
             }
         })
         .collect()
-}
-
-/// Disjoint sets of `0..n` (path halving, union by index).
-struct UnionFind(Vec<u32>);
-
-impl UnionFind {
-    fn new(n: usize) -> Self {
-        UnionFind((0..n as u32).collect())
-    }
-
-    fn find(&mut self, mut x: u32) -> u32 {
-        while self.0[x as usize] != x {
-            let up = self.0[self.0[x as usize] as usize];
-            self.0[x as usize] = up;
-            x = up;
-        }
-        x
-    }
-
-    fn union(&mut self, a: u32, b: u32) {
-        let (a, b) = (self.find(a), self.find(b));
-        self.0[a.max(b) as usize] = a.min(b);
-    }
 }

@@ -36,6 +36,7 @@ mod plc3;
 mod recovery;
 mod recovery3;
 mod surface;
+mod union_find;
 
 pub use classify::OUTSIDE;
 pub use error::RecoveryError;

@@ -109,7 +109,8 @@ pub struct MeshRun2 {
 ///
 /// # Errors
 /// Invalid input (crossing segments, bad seeds, non-finite coordinates; named in the input's
-/// numbering), a domain with no element, or a bad option.
+/// numbering), coordinates beyond double precision's range ([`Error::OutOfRange`]), a domain
+/// with no element, or a bad option.
 pub fn mesh_plc(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Error> {
     units::check_range(&plc.points, plc.first_index)?;
     let e = units::normalising_exponent(&plc.points);

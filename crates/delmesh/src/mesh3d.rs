@@ -143,8 +143,9 @@ pub struct MeshRun3 {
 /// as the scaled problem's.
 ///
 /// # Errors
-/// Invalid input (named in the input's numbering), a surface that could not be recovered, a
-/// domain with no element, or a bad option.
+/// Invalid input (named in the input's numbering), coordinates beyond double precision's range
+/// ([`Error::OutOfRange`]), a surface that could not be recovered, a domain with no element,
+/// or a bad option.
 pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> {
     units::check_range(&plc.points, plc.first_index)?;
     let e = units::normalising_exponent(&plc.points);

@@ -9,33 +9,8 @@ use super::intersect::{collinear, intersecting_pairs, points_on_triangles, trian
 use super::volume::{signed_volume, wind, Surface, Winding};
 use super::{CheckedSurface, Junction, SurfaceComponent, SurfaceEdge};
 use crate::plc3::{Plc3, SurfaceTriangle};
+use crate::union_find::UnionFind;
 use delmesh_predicates::{Sign, COORDINATE_RANGE};
-
-/// Union–find with path halving.
-struct UnionFind(Vec<u32>);
-
-impl UnionFind {
-    fn new(n: usize) -> UnionFind {
-        UnionFind((0..n as u32).collect())
-    }
-
-    fn find(&mut self, mut x: u32) -> u32 {
-        while self.0[x as usize] != x {
-            let up = self.0[self.0[x as usize] as usize];
-            self.0[x as usize] = up;
-            x = up;
-        }
-        x
-    }
-
-    fn union(&mut self, a: u32, b: u32) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra != rb {
-            let (lo, hi) = (ra.min(rb), ra.max(rb));
-            self.0[hi as usize] = lo;
-        }
-    }
-}
 
 /// The power-of-two scale bringing the largest coordinate magnitude into `[0.5, 1)` and the
 /// scaled points; checks that every coordinate is finite and, scaled, either zero or at least
