@@ -6,7 +6,10 @@
 //! length `L`, the point is `c + s·h·n` on the side `s` (±1) of the domain, at the height
 //! `h = √(2/3)·L` of a regular tetrahedron on the face, or lower (3/4, 1/2 of it) if the sphere
 //! through the face and the point is not empty, or if another point lies within `h/4` of the
-//! new one (on the sphere: the two triangles of a rectangle would get one point). That sphere
+//! new one (on the sphere: the two triangles of a rectangle would get one point), or if the
+//! point lies on the surface (a right triangle's circumcentre is the midpoint of its longest
+//! edge, and where that edge is a cube's, or a wall meets a facet, the normal runs along the
+//! next facet: a point in a surface triangle makes it unrecoverable). That sphere
 //! has its centre at `c + s·σ·n` with `σ = (h² − R²)/(2h)` and radius `√(R² + σ²)`. Emptiness
 //! is checked against every point known so far (surface points, field points and the a-priori
 //! points already placed) through a uniform grid. Faces for which no height works (tight
@@ -81,6 +84,7 @@ pub(crate) fn a_priori_points(
     others: &[[f64; 3]],
     triangles: &[SurfaceTriangle],
     side: impl Fn(usize) -> f64,
+    on_surface: impl Fn([f64; 3]) -> bool,
 ) -> (Vec<[f64; 3]>, usize) {
     let mean = triangles
         .iter()
@@ -119,7 +123,12 @@ pub(crate) fn a_priori_points(
                 // A point on the sphere is no obstacle to the face, but one at (or by) q would
                 // be a near-duplicate: the two triangles of a rectangle have one circumcircle,
                 // normal and mean edge length, so their points fell together (to rounding).
-                if !grid.any_inside(centre, radius, &p) && !grid.any_inside(q, NEAR * h, &p) {
+                // A point on the surface (another facet crossing the face's normal, as
+                // walls between regions do) would sit inside a surface triangle.
+                if !grid.any_inside(centre, radius, &p)
+                    && !grid.any_inside(q, NEAR * h, &p)
+                    && !on_surface(q)
+                {
                     found = Some(q);
                     break 'search;
                 }
@@ -198,10 +207,10 @@ mod tests {
             marker: 0,
             facet: 0,
         }];
-        let (alone, _) = a_priori_points(&points, &[], &t, |_| 1.0);
+        let (alone, _) = a_priori_points(&points, &[], &t, |_| 1.0, |_| false);
         let q = alone[0];
         let other = [q[0], q[1], q[2] + 1e-9];
-        let (placed, none) = a_priori_points(&points, &[other], &t, |_| 1.0);
+        let (placed, none) = a_priori_points(&points, &[other], &t, |_| 1.0, |_| false);
         assert_eq!((placed.len(), none), (1, 0));
         assert!(dist(placed[0], other) > 0.1 * q[2], "{placed:?} {other:?}");
     }
@@ -214,17 +223,17 @@ mod tests {
             marker: 0,
             facet: 0,
         }];
-        let (up, none) = a_priori_points(&points, &[], &t, |_| 1.0);
+        let (up, none) = a_priori_points(&points, &[], &t, |_| 1.0, |_| false);
         assert_eq!((up.len(), none), (1, 0));
         assert!(up[0][2] > 0.0);
         // A point above the face pushes that side's point lower; the other side is free.
         let blocker = [[0.3, 0.3, 0.6]];
-        let (lower, _) = a_priori_points(&points, &blocker, &t, |_| 1.0);
+        let (lower, _) = a_priori_points(&points, &blocker, &t, |_| 1.0, |_| false);
         assert!(
             lower[0][2] > 0.0 && lower[0][2] < 0.99 * up[0][2],
             "{lower:?} {up:?}"
         );
-        let (down, _) = a_priori_points(&points, &blocker, &t, |_| 0.0);
+        let (down, _) = a_priori_points(&points, &blocker, &t, |_| 0.0, |_| false);
         assert!(down[0][2] < 0.0);
     }
 }

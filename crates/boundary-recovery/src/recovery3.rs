@@ -575,7 +575,9 @@ impl BoundaryRecovery3 {
                 &self.sides
             };
             let side = |k: usize| sides.get(k).copied().unwrap_or(0.0);
-            let (placed, rejected) = a_priori_points(&plc.points, &extra, &plc.triangles, side);
+            let on_surface = |q: [f64; 3]| checked.as_ref().is_some_and(|c| c.touches(q));
+            let (placed, rejected) =
+                a_priori_points(&plc.points, &extra, &plc.triangles, side, on_surface);
             a_priori_rejected = rejected;
             points.extend(placed);
         }

@@ -477,10 +477,56 @@ fn overlapping_cubes_cut_into_three_regions_keep_all_three() {
             }
         }
     }
-    for recovery in [RecoveryMethod3::Conforming, RecoveryMethod3::Constrained] {
+    for recovery in [
+        RecoveryMethod3::Conforming,
+        RecoveryMethod3::APriori,
+        RecoveryMethod3::Constrained,
+    ] {
         let run = mesh_with(&plc, recovery, options(1.0));
-        check_enclosing(&plc, &run, 1, recovery == RecoveryMethod3::Conforming, 15.0);
+        check_enclosing(
+            &plc,
+            &run,
+            1,
+            recovery != RecoveryMethod3::Constrained,
+            15.0,
+        );
     }
+}
+
+#[test]
+fn a_priori_points_never_land_on_another_facet() {
+    // A unit cube whose faces are fans of four right triangles around their centres: each
+    // triangle's circumcentre is the midpoint of a cube edge, so its a-priori point, along the
+    // normal, lay in the next face, inside a surface triangle that could then never be
+    // recovered ("the surface could not be recovered (1448 points added)"). gmsh's fragments
+    // met this at the walls between regions.
+    let mut plc = Plc3::default();
+    for c in 0..8 {
+        plc.points.push([0, 1, 2].map(|k| f64::from((c >> k) & 1)));
+    }
+    for axis in 0..3 {
+        for side in 0..2 {
+            let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+            let corner = |a: usize, b: usize| ((side << axis) | (a << u) | (b << w)) as u32;
+            let ring = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)];
+            let mut centre = [0.5; 3];
+            centre[axis] = side as f64;
+            plc.points.push(centre);
+            let c = plc.points.len() as u32 - 1;
+            for k in 0..4 {
+                plc.triangles.push(SurfaceTriangle {
+                    v: [ring[k], ring[(k + 1) % 4], c],
+                    marker: 1,
+                    facet: plc.triangles.len() as u32,
+                });
+            }
+        }
+    }
+    // Every height of every face's point lies in the next face: none is placed, and edge and
+    // face checking finds the surface whole.
+    let run = mesh_with(&plc, RecoveryMethod3::APriori, options(1.0));
+    assert_eq!(run.recovery.a_priori_rejected, 24);
+    check(&plc, &run, 1, true);
 }
 
 #[test]

@@ -28,6 +28,7 @@ pub use polygon::PolygonFacet;
 
 use crate::plc3::{Plc3, SurfaceTriangle};
 use bvh::Boxes;
+use intersect::point_on_triangle;
 use volume::{wind, Surface, Winding};
 
 /// An edge of a checked surface and its two triangles.
@@ -184,6 +185,24 @@ impl CheckedSurface {
         let mut components = winding.take_nonzero();
         components.retain(|&c| !self.components[c as usize].walls);
         Some(PointLocation::Enclosed { components })
+    }
+
+    /// Whether the point lies on the surface (exactly; a box query, cheaper than
+    /// [`CheckedSurface::locate`]'s ray). False for a point `locate` cannot take.
+    pub fn touches(&self, p: [f64; 3]) -> bool {
+        let q = p.map(|x| x * self.scale);
+        let (tiny, huge) = delmesh_predicates::COORDINATE_RANGE;
+        if q.iter()
+            .any(|x| !x.is_finite() || x.abs() > huge || (*x != 0.0 && x.abs() < tiny))
+        {
+            return false;
+        }
+        let mut on = false;
+        self.boxes.overlapping(&(q, q), &mut Vec::new(), |t| {
+            on = on
+                || point_on_triangle(self.corners[t as usize].map(|v| self.scaled[v as usize]), q);
+        });
+        on
     }
 
     /// Whether the point is in the domain by nesting parity (inside an odd number of
