@@ -175,6 +175,14 @@ pub(crate) fn check(plc: &Plc2, geometric: bool) -> Result<CheckedPlc, RecoveryE
             });
         }
     }
+    for (i, r) in plc.regions.iter().enumerate() {
+        if let Some(a) = r.max_area.filter(|a| a.is_nan() || *a <= 0.0) {
+            return Err(RecoveryError::BadAreaLimit {
+                index: name(i),
+                value: a,
+            });
+        }
+    }
     // Merge duplicate points: each maps to its first occurrence.
     let mut first: HashMap<(u64, u64), u32> = HashMap::with_capacity(n);
     let canon: Vec<u32> = plc

@@ -48,6 +48,28 @@ pub enum RecoveryError {
         /// Its number.
         index: u64,
     },
+    /// A region's area limit is not a positive number.
+    #[error("region {index}: the maximum area must be positive (got {value})")]
+    BadAreaLimit {
+        /// The region's number.
+        index: u64,
+        /// The value.
+        value: f64,
+    },
+    /// A region's area limit asks for more elements than the mesh's 32-bit indices hold.
+    #[error(
+        "region {index}: a maximum area of {max_area:e} asks for about {elements:.1e} elements in the region's area of {area:e}, more than delmesh can index (2^30)"
+    )]
+    AreaLimitTooSmall {
+        /// The region's number.
+        index: u64,
+        /// Its limit.
+        max_area: f64,
+        /// Its area.
+        area: f64,
+        /// Elements it would need at least.
+        elements: f64,
+    },
     /// A hole or region seed lies on a segment (or at a vertex) between two parts of the domain,
     /// so it does not say which part it means.
     #[error(

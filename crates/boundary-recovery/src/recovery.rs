@@ -19,9 +19,9 @@
 use crate::check::{check, CheckedPlc};
 use crate::classify::{classify, OUTSIDE};
 use crate::error::RecoveryError;
-use crate::plc::Plc2;
+use crate::plc::{spacing_for_area, Plc2};
 use delmesh_delaunay_core::{
-    insertion_order, ConstrainedTriangulation2, ConstraintError, Insertion, Triangulation2,
+    insertion_order, CellId, ConstrainedTriangulation2, ConstraintError, Insertion, Triangulation2,
     VertexId, D2,
 };
 use std::collections::HashMap;
@@ -176,6 +176,7 @@ pub struct Mesh2 {
 pub struct BoundaryRecovery {
     method: RecoveryMethod,
     extra_points: Vec<[f64; 2]>,
+    area_limits: bool,
 }
 
 /// A piece of a checked segment while stitching.
@@ -192,7 +193,18 @@ impl BoundaryRecovery {
         BoundaryRecovery {
             method,
             extra_points: Vec::new(),
+            area_limits: false,
         }
+    }
+
+    /// Splits the boundary edges next to a region with an area limit
+    /// ([`crate::RegionSeed::max_area`]) into equal pieces no longer than the spacing that
+    /// meets the limit ([`spacing_for_area`]), as Triangle splits the segments its area
+    /// refinement encroaches: point generation then fills the region from a boundary spaced
+    /// like it. Off by default (a recovery alone adds only the points it needs).
+    pub fn with_area_limits(mut self, on: bool) -> Self {
+        self.area_limits = on;
+        self
     }
 
     /// Adds points from an external source (R9: e.g. the nodes of separate component meshes);
@@ -258,43 +270,30 @@ impl BoundaryRecovery {
                 state.stitch(&mut history)?;
                 state.constrain()?
             }
-            RecoveryMethod::Constrained => {
-                let mut cdt = ConstrainedTriangulation2::new(std::mem::replace(
-                    &mut state.tri,
-                    Triangulation2::new(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])?,
-                ));
-                let mut pass = state.pass_of(cdt.triangulation(), 0);
-                pass.missing = state
-                    .subs
-                    .iter()
-                    .filter(|s| cdt.find_edge(s.a, s.b).is_none())
-                    .count();
-                history.passes.push(pass);
-                // A vertex found inside a segment splits it there (as the input checks do for
-                // the other methods); pieces that overlapping collinear segments share are
-                // kept once.
-                let mut work: Vec<Sub> = std::mem::take(&mut state.subs);
-                work.reverse();
-                let mut present = std::collections::HashSet::new();
-                while let Some(s) = work.pop() {
-                    match cdt.insert_segment(s.a, s.b) {
-                        Ok(()) => {
-                            if present.insert((s.a.min(s.b), s.a.max(s.b))) {
-                                state.subs.push(s);
-                            }
-                        }
-                        Err(ConstraintError::VertexOnSegment { vertex, .. }) => {
-                            work.push(Sub { a: vertex, ..s });
-                            work.push(Sub { b: vertex, ..s });
-                        }
-                        Err(e) => return Err(state.constraint_error(e, s.segment)),
-                    }
-                }
-                history.passes.push(state.pass_of(cdt.triangulation(), 0));
-                cdt
-            }
+            RecoveryMethod::Constrained => state.constrain_by_flips(&mut history)?,
         };
         let mut cdt = cdt;
+        if self.area_limits && plc.has_area_limits() {
+            classify(&mut cdt, plc)?;
+            check_area_limits(&cdt, plc)?;
+            let longest: Vec<f64> = plc
+                .area_limits()
+                .into_iter()
+                .map(spacing_for_area)
+                .collect();
+            let splits = long_subsegments(&cdt, &state.subs, &longest);
+            if !splits.is_empty() {
+                state.tri = cdt.into_triangulation();
+                state.split_subsegments(&splits, &mut history)?;
+                cdt = match self.method {
+                    RecoveryMethod::Constrained => state.constrain_by_flips(&mut history)?,
+                    _ => {
+                        state.stitch(&mut history)?;
+                        state.constrain()?
+                    }
+                };
+            }
+        }
         let region_attributes = classify(&mut cdt, plc)?;
         let mut point_markers = plc.point_markers.clone();
         point_markers.resize(n_input, 0);
@@ -500,6 +499,104 @@ impl<'a> State<'a> {
         }
     }
 
+    /// Inserts the sub-segments into the triangulation by flips, adding no point (the
+    /// Steiner-free recovery); a vertex found inside a sub-segment splits it there.
+    fn constrain_by_flips(
+        &mut self,
+        history: &mut RecoveryHistory,
+    ) -> Result<ConstrainedTriangulation2, RecoveryError> {
+        let state = self;
+        let mut cdt = ConstrainedTriangulation2::new(std::mem::replace(
+            &mut state.tri,
+            Triangulation2::new(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])?,
+        ));
+        let mut pass = state.pass_of(cdt.triangulation(), 0);
+        pass.missing = state
+            .subs
+            .iter()
+            .filter(|s| cdt.find_edge(s.a, s.b).is_none())
+            .count();
+        history.passes.push(pass);
+        // A vertex found inside a segment splits it there (as the input checks do for
+        // the other methods); pieces that overlapping collinear segments share are
+        // kept once.
+        let mut work: Vec<Sub> = std::mem::take(&mut state.subs);
+        work.reverse();
+        let mut present = std::collections::HashSet::new();
+        while let Some(s) = work.pop() {
+            match cdt.insert_segment(s.a, s.b) {
+                Ok(()) => {
+                    if present.insert((s.a.min(s.b), s.a.max(s.b))) {
+                        state.subs.push(s);
+                    }
+                }
+                Err(ConstraintError::VertexOnSegment { vertex, .. }) => {
+                    work.push(Sub { a: vertex, ..s });
+                    work.push(Sub { b: vertex, ..s });
+                }
+                Err(e) => return Err(state.constraint_error(e, s.segment)),
+            }
+        }
+        history.passes.push(state.pass_of(cdt.triangulation(), 0));
+        Ok(cdt)
+    }
+
+    /// Splits each listed sub-segment `(index, pieces)` into that many equal pieces, inserting
+    /// the points between them into the (unconstrained) triangulation, in a spatially sorted
+    /// order; the pieces keep their segment (and so its marker), the points the piece length as
+    /// spacing. One recovery pass in the history.
+    fn split_subsegments(
+        &mut self,
+        splits: &[(usize, usize)],
+        history: &mut RecoveryHistory,
+    ) -> Result<(), RecoveryError> {
+        let before = self.pass(0);
+        let mut at = Vec::new();
+        for &(i, pieces) in splits {
+            let (pa, pb) = (
+                self.tri.vertex(self.subs[i].a),
+                self.tri.vertex(self.subs[i].b),
+            );
+            for j in 1..pieces {
+                at.push(lerp(pa, pb, j as f64 / pieces as f64));
+            }
+        }
+        let mut vertex = vec![VertexId(0); at.len()];
+        for k in insertion_order::<D2>(&at) {
+            let k = k as usize;
+            vertex[k] = match self.tri.insert(at[k])? {
+                Insertion::Inserted(v) | Insertion::Duplicate(v) => v,
+            };
+        }
+        let mut next = vertex.into_iter();
+        for &(i, pieces) in splits {
+            let s = self.subs[i];
+            let length = dist(self.tri.vertex(s.a), self.tri.vertex(s.b)) / pieces as f64;
+            let mut a = s.a;
+            for v in next.by_ref().take(pieces - 1) {
+                // (A point rounded onto an end, or onto the previous point, splits nothing.)
+                if v == a || v == s.b {
+                    continue;
+                }
+                if self.spacing.len() <= v.index() {
+                    self.spacing.resize(v.index() + 1, f64::NAN);
+                }
+                self.spacing[v.index()] = length;
+                if a == s.a {
+                    self.subs[i].b = v;
+                } else {
+                    self.subs.push(Sub { a, b: v, ..s });
+                }
+                a = v;
+            }
+            self.subs.push(Sub { a, ..s });
+        }
+        let mut pass = before;
+        pass.inserted = self.tri.num_vertices() - before.points;
+        history.passes.push(pass);
+        Ok(())
+    }
+
     /// Wraps the triangulation (all sub-segments present) and constrains the sub-segments.
     fn constrain(&mut self) -> Result<ConstrainedTriangulation2, RecoveryError> {
         let tri = std::mem::replace(
@@ -537,6 +634,78 @@ impl<'a> State<'a> {
             },
         }
     }
+}
+
+/// Elements at most that area limits may ask for: cell ids are 32-bit, and the triangulation
+/// holds the hull's cells besides the domain's.
+const MAX_LIMITED_ELEMENTS: f64 = (1u64 << 30) as f64;
+
+/// Refuses area limits that ask for more elements than [`MAX_LIMITED_ELEMENTS`] (each region's
+/// area over its limit, summed), naming the region that asks for the most.
+fn check_area_limits(cdt: &ConstrainedTriangulation2, plc: &Plc2) -> Result<(), RecoveryError> {
+    let limits = plc.area_limits();
+    let tri = cdt.triangulation();
+    let mut area = vec![0.0; limits.len()];
+    for c in tri.cells() {
+        let tag = cdt.tag(c) as usize;
+        if tag < area.len() && !tri.is_ghost(c) {
+            let v = tri.cell(c);
+            let p = [tri.vertex(v[0]), tri.vertex(v[1]), tri.vertex(v[2])];
+            area[tag] += 0.5
+                * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+                    - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]));
+        }
+    }
+    let need: Vec<f64> = area.iter().zip(&limits).map(|(a, l)| a / l).collect();
+    if need.iter().sum::<f64>() <= MAX_LIMITED_ELEMENTS {
+        return Ok(());
+    }
+    let tag = (0..need.len())
+        .max_by(|&i, &j| need[i].total_cmp(&need[j]))
+        .unwrap_or(0);
+    Err(RecoveryError::AreaLimitTooSmall {
+        index: (tag.max(1) - 1) as u64 + u64::from(plc.first_index),
+        max_area: limits[tag],
+        area: area[tag],
+        elements: need[tag],
+    })
+}
+
+/// The sub-segments longer than the longest edge allowed on either side (by region tag, from
+/// the regions' area limits), with the number of equal pieces each is to be split into.
+fn long_subsegments(
+    cdt: &ConstrainedTriangulation2,
+    subs: &[Sub],
+    longest: &[f64],
+) -> Vec<(usize, usize)> {
+    let tri = cdt.triangulation();
+    let limit = |c: CellId| {
+        let tag = cdt.tag(c);
+        if tag == OUTSIDE || tri.is_ghost(c) {
+            f64::INFINITY
+        } else {
+            longest.get(tag as usize).copied().unwrap_or(f64::INFINITY)
+        }
+    };
+    let shortest = |length: f64| length / f64::from(1u32 << 20);
+    subs.iter()
+        .enumerate()
+        .filter_map(|(i, s)| {
+            let (c, e) = cdt.find_edge(s.a, s.b)?;
+            let length = dist(tri.vertex(s.a), tri.vertex(s.b));
+            // (At most 2^20 pieces: a limit far below the segment's length is bounded by the
+            // generation's point budget, not here.)
+            let h = limit(c)
+                .min(limit(tri.neighbor_facet(c, e).cell()))
+                .max(shortest(length));
+            let pieces = (length / h).ceil();
+            (pieces > 1.0).then_some((i, pieces as usize))
+        })
+        .collect()
+}
+
+fn lerp(a: [f64; 2], b: [f64; 2], t: f64) -> [f64; 2] {
+    [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
 }
 
 fn dist(p: [f64; 2], q: [f64; 2]) -> f64 {

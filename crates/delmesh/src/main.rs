@@ -62,7 +62,8 @@ enum RecoveryArg {
 
 #[derive(Args, Debug)]
 struct MeshArgs {
-    /// The domain: a Triangle .poly file (points, segments with markers, holes, regions), or a
+    /// The domain: a Triangle .poly file (points, segments with markers, holes, regions with
+    /// attributes and area limits, honoured when points are generated), or a
     /// closed 3D surface triangulation (.smesh, 3D .poly, .off, .stl, .obj, .mesh, .msh).
     #[arg(value_name = "INPUT")]
     input: PathBuf,

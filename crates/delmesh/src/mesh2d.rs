@@ -27,8 +27,8 @@ use delmesh_boundary_recovery::{
 };
 use delmesh_io::PolyFile;
 use delmesh_point_gen::{
-    Adaptation, BackgroundMesh2, GenerationReport, PointGeneration, QualityRefinement, Source,
-    SpacingField,
+    Adaptation, AreaLimits, BackgroundMesh2, GenerationReport, PointGeneration, QualityRefinement,
+    Source, SpacingField,
 };
 use delmesh_smoothing::{QualityReport, SmoothStats, Smoother};
 
@@ -97,6 +97,10 @@ pub struct MeshRun2 {
     pub flips: usize,
     /// Points added by quality refinement.
     pub refined: usize,
+    /// Points added at the centroids of elements larger than their region's area limit
+    /// ([`RegionSeed::max_area`]), before and after smoothing; `None` when no region has a
+    /// limit or no points are generated.
+    pub area_limited: Option<usize>,
     /// Quality of the final mesh.
     pub quality: QualityReport,
     /// Seconds spent in each stage, in order.
@@ -131,11 +135,17 @@ fn mesh_plc_as_given(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Err
         timings.push((name, clock.elapsed().as_secs_f64()));
         clock = Instant::now();
     };
+    // Regional area limits are honoured when points are generated: the boundary next to such
+    // a region is split, generation's spacing capped there, and too large elements split.
+    let limits = (options.generation.is_some() && plc.has_area_limits())
+        .then(|| AreaLimits::new(plc.area_limits()));
     let mut mesh = BoundaryRecovery::new(options.recovery)
         .with_points(options.extra_points.clone())
+        .with_area_limits(limits.is_some())
         .run(plc)?;
     lap("boundary recovery", &mut timings);
     let mut refined = 0;
+    let mut area_limited = limits.as_ref().map(|_| 0);
     let generation = match &options.generation {
         Some(settings) => {
             let mut field = match &options.spacing {
@@ -145,11 +155,21 @@ fn mesh_plc_as_given(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Err
             for s in &options.sources {
                 field = field.with_source(*s);
             }
+            if limits.is_some() {
+                field = field.with_area_limits(&plc.area_limits());
+            }
             let report = settings.run(&mut mesh, &field)?;
             lap("point generation", &mut timings);
             if let Some(refinement) = &options.refinement {
                 refined = refinement.run(&mut mesh)?;
                 lap("quality refinement", &mut timings);
+            }
+            if let (Some(limits), Some(n)) = (&limits, &mut area_limited) {
+                let budget = settings
+                    .max_points
+                    .saturating_sub(report.points_added() + refined);
+                *n += limits.run(&mut mesh, budget)?;
+                lap("area limits", &mut timings);
             }
             Some(report)
         }
@@ -180,6 +200,16 @@ fn mesh_plc_as_given(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Err
                 flips = mesh.cdt.make_delaunay();
                 lap("delaunay flips", &mut timings);
             }
+            // Moves change areas: the limits are checked again.
+            if let (Some(limits), Some(n), Some(settings), Some(report)) =
+                (&limits, &mut area_limited, &options.generation, &generation)
+            {
+                let budget = settings
+                    .max_points
+                    .saturating_sub(report.points_added() + refined + *n);
+                *n += limits.run(&mut mesh, budget)?;
+                lap("area limits after smoothing", &mut timings);
+            }
             Some(stats)
         }
         None => None,
@@ -195,6 +225,7 @@ fn mesh_plc_as_given(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Err
         smoothing,
         flips,
         refined,
+        area_limited,
         quality,
         timings,
     })
@@ -344,6 +375,11 @@ impl MeshRun2 {
                 self.refined
             ));
         }
+        if let Some(n) = self.area_limited {
+            s.push_str(&format!(
+                "regional area limits: {n} points added at centroids\n"
+            ));
+        }
         if let Some(st) = &self.smoothing {
             s.push_str(&format!("smoothing: {st}\n"));
             s.push_str(&format!("delaunay flips after smoothing: {}\n", self.flips));
@@ -399,13 +435,15 @@ impl MeshRun2 {
             .collect::<Vec<_>>()
             .join(", ");
         format!(
-            "{{\n  \"points\": {},\n  \"triangles\": {},\n  \"boundary_edges\": {},\n  \"recovery\": {{\"method\": \"{:?}\", \"duplicates_merged\": {}, \"passes\": {recovery}}},\n  \"generation\": {generation},\n  \"flips_after_smoothing\": {},\n  \"quality\": {},\n  \"seconds\": {{{timings}}}\n}}\n",
+            "{{\n  \"points\": {},\n  \"triangles\": {},\n  \"boundary_edges\": {},\n  \"recovery\": {{\"method\": \"{:?}\", \"duplicates_merged\": {}, \"passes\": {recovery}}},\n  \"generation\": {generation},\n  \"flips_after_smoothing\": {},\n  \"area_limit_points\": {},\n  \"quality\": {},\n  \"seconds\": {{{timings}}}\n}}\n",
             self.arrays.coords.len(),
             self.arrays.triangles.len(),
             self.arrays.edges.len(),
             self.recovery.method,
             self.recovery.merged_points.len(),
             self.flips,
+            self.area_limited
+                .map_or_else(|| "null".to_string(), |n| n.to_string()),
             self.quality.to_json()
         )
     }

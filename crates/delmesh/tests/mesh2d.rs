@@ -4,7 +4,7 @@
 
 use delmesh::demos::mesh_demo_setup;
 use delmesh::mesh2d::{mesh_plc, MeshOptions2, MeshRun2};
-use delmesh::recovery::{Plc2, RecoveryMethod};
+use delmesh::recovery::{Plc2, RecoveryMethod, RegionSeed};
 use delmesh::smoothing::Smoother;
 use delmesh_predicates::{orient2d, Sign};
 use std::collections::HashMap;
@@ -353,4 +353,104 @@ fn a_domain_far_from_unit_size_gives_the_unit_mesh_scaled() {
             assert_eq!(t.vertex(*v), *p, "2^{e}");
         }
     }
+}
+
+#[test]
+fn regional_area_limits_bound_every_element() {
+    // Two regions side by side, the right one with a hole, limited to 0.002 and 0.05 (as a
+    // .poly file's regional attributes give them to Triangle's -a): every element is within
+    // its region's limit, whatever the recovery, with and without smoothing.
+    let mut plc = Plc2::default();
+    polygon(
+        &mut plc,
+        &[
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [4.0, 0.0],
+            [4.0, 2.0],
+            [2.0, 2.0],
+            [0.0, 2.0],
+        ],
+    );
+    polygon(&mut plc, &[[2.5, 0.5], [2.5, 1.0], [3.0, 1.0], [3.0, 0.5]]);
+    plc.segments.push(delmesh::recovery::Segment {
+        a: 1,
+        b: 4,
+        marker: 2,
+    });
+    let limits = [(1.0, 0.002), (2.0, 0.05)];
+    plc.regions = [[1.0, 1.0], [3.5, 1.5]]
+        .iter()
+        .zip(limits)
+        .map(|(&point, (attribute, max_area))| RegionSeed {
+            point,
+            attribute,
+            max_area: Some(max_area),
+        })
+        .collect();
+    for recovery in [
+        RecoveryMethod::Stitch,
+        RecoveryMethod::APriori,
+        RecoveryMethod::Constrained,
+    ] {
+        for smoothing in [None, Some(Smoother::new())] {
+            let options = MeshOptions2 {
+                recovery,
+                smoothing,
+                ..MeshOptions2::default()
+            };
+            let name = format!("{recovery:?}, smoothing {}", smoothing.is_some());
+            let run = mesh_plc(&plc, &options).unwrap();
+            check_run_of_area(&run, &plc, &name, 8.0 - 0.25);
+            let a = &run.arrays;
+            let mut count = [0usize; 2];
+            for (t, region) in a.triangles.iter().zip(&a.regions) {
+                let k = limits
+                    .iter()
+                    .position(|l| l.0 == *region)
+                    .expect("a seeded region");
+                let p = t.map(|v| a.coords[v as usize]);
+                let area = 0.5
+                    * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+                        - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]));
+                assert!(
+                    area <= limits[k].1,
+                    "{name}: area {area} in region {region}"
+                );
+                count[k] += 1;
+            }
+            // Filled, not just split: at least the count the limit needs, not many times it
+            // (the second region grades from the first one's fine boundary).
+            assert!(count[0] >= 2000 && count[0] < 5000, "{name}: {count:?}");
+            assert!(count[1] >= 75 && count[1] < 600, "{name}: {count:?}");
+            // The first region's boundary is spaced like its interior: no element spans a
+            // whole original segment.
+            assert!(run.area_limited.is_some());
+            assert!(run.arrays.edges.len() > 100, "{name}");
+        }
+    }
+    // Without point generation the limits are not applied (a recovery only); a limit that
+    // is not positive is an error naming the region.
+    let options = MeshOptions2 {
+        generation: None,
+        ..MeshOptions2::default()
+    };
+    let run = mesh_plc(&plc, &options).unwrap();
+    assert_eq!(run.area_limited, None);
+    plc.regions[1].max_area = Some(0.0);
+    let err = mesh_plc(&plc, &MeshOptions2::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("region 1") && err.contains("maximum area"),
+        "{err}"
+    );
+    // A limit asking for more elements than 32-bit ids hold is refused up front, naming the
+    // region (1e-12 in a 2 × 2 region: 4e12 elements), not run out of memory.
+    plc.regions[1].max_area = Some(0.05);
+    plc.regions[0].max_area = Some(1e-12);
+    let err = mesh_plc(&plc, &MeshOptions2::default())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("region 0") && err.contains("2^30"), "{err}");
 }

@@ -348,6 +348,12 @@ impl PointGeneration {
         if !(h > 0.0 && h.is_finite()) {
             return Candidate::BadSpacing { value: h, at: g };
         }
+        // (The tag is read only when some region has a cap.)
+        let h = if field.has_region_caps() {
+            h.min(field.region_cap(mesh.cdt.tag(c)))
+        } else {
+            h
+        };
         let reach = self.alpha * h;
         let reach2 = reach * reach;
         // All three distances, then one branch (a branch per node went either way at random).

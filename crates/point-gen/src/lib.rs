@@ -4,8 +4,10 @@
 //! from the boundary spacing, from a background mesh, from a solution field (adaptation), with
 //! optional analytic sources. [`PointGeneration`] fills a boundary-conforming mesh with points
 //! by Weatherill's α criterion, in passes ([`GenerationReport`]); [`QualityRefinement`] then
-//! removes the few skinny elements left where the spacing changes fast.
+//! removes the few skinny elements left where the spacing changes fast, and [`AreaLimits`]
+//! makes sure no element is larger than its region's area limit.
 
+mod area;
 mod generate;
 mod generate3;
 mod refine;
@@ -13,6 +15,7 @@ mod refine3;
 mod spacing;
 mod spacing3;
 
+pub use area::AreaLimits;
 pub use generate::{
     GenerationPass, GenerationReport, PointGenError, PointGeneration, RENUMBER_MIN,
 };

@@ -475,6 +475,8 @@ enum Base {
 pub struct SpacingField {
     base: Base,
     sources: Vec<Source>,
+    /// The largest spacing in each region (by region index), from its area limit.
+    region_caps: Vec<f64>,
 }
 
 impl SpacingField {
@@ -483,6 +485,7 @@ impl SpacingField {
         SpacingField {
             base: Base::Boundary,
             sources: Vec::new(),
+            region_caps: Vec::new(),
         }
     }
 
@@ -491,6 +494,7 @@ impl SpacingField {
         SpacingField {
             base: Base::Background(mesh),
             sources: Vec::new(),
+            region_caps: Vec::new(),
         }
     }
 
@@ -498,6 +502,32 @@ impl SpacingField {
     pub fn with_source(mut self, source: Source) -> Self {
         self.sources.push(source);
         self
+    }
+
+    /// Caps the spacing in each region (by region index, as elements are tagged; infinite:
+    /// no cap) by its area limit (`delmesh_boundary_recovery::Plc2::area_limits`, through
+    /// `spacing_for_area`), so that generation fills a region with elements under its limit.
+    pub fn with_area_limits(mut self, limits: &[f64]) -> Self {
+        self.region_caps = limits
+            .iter()
+            .map(|&a| delmesh_boundary_recovery::spacing_for_area(a))
+            .collect();
+        self
+    }
+
+    /// Whether some region's spacing is capped ([`SpacingField::with_area_limits`]).
+    #[inline]
+    pub fn has_region_caps(&self) -> bool {
+        !self.region_caps.is_empty()
+    }
+
+    /// The largest spacing allowed in region `tag` (infinite where there is no limit).
+    #[inline]
+    pub fn region_cap(&self, tag: u32) -> f64 {
+        self.region_caps
+            .get(tag as usize)
+            .copied()
+            .unwrap_or(f64::INFINITY)
     }
 
     /// Whether the field uses the values interpolated from the element's nodes.
