@@ -29,8 +29,9 @@ pub struct RegionSeed3 {
     pub point: [f64; 3],
     /// The regional attribute given to the region's tetrahedra.
     pub attribute: f64,
-    /// Largest tetrahedron volume wanted in the region (`None`: no limit). Kept for TetGen
-    /// compatibility; the spacing field controls element size in delmesh.
+    /// Largest tetrahedron volume allowed in the region (`None`: no limit), as TetGen's `-a`
+    /// reads it from a `.poly` or `.smesh` file. Honoured when points are generated
+    /// (`delmesh-point-gen`'s `VolumeLimits`).
     pub max_volume: Option<f64>,
 }
 
@@ -76,5 +77,24 @@ impl Plc3 {
                 .collect(),
             ..Default::default()
         }
+    }
+}
+
+impl Plc3 {
+    /// The volume limit of each region index (0: the default region, `1 + k`: the `k`-th
+    /// region seed, as tetrahedra are tagged), infinite where there is none.
+    pub fn volume_limits(&self) -> Vec<f64> {
+        std::iter::once(f64::INFINITY)
+            .chain(
+                self.regions
+                    .iter()
+                    .map(|r| r.max_volume.unwrap_or(f64::INFINITY)),
+            )
+            .collect()
+    }
+
+    /// Whether some region has a volume limit.
+    pub fn has_volume_limits(&self) -> bool {
+        self.regions.iter().any(|r| r.max_volume.is_some())
     }
 }

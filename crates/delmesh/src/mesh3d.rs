@@ -26,13 +26,14 @@ use delmesh_boundary_recovery::{
 use delmesh_delaunay_core::{FacetRef, Flips3, VertexId};
 use delmesh_io::{SurfaceFile, TetMeshOut};
 use delmesh_point_gen::{
-    Adaptation, BackgroundMesh3, GenerationReport3, PointGeneration3, QualityRefinement3, Source3,
-    SpacingField3,
+    Adaptation, BackgroundMesh3, GenerationReport3, PointGenError, PointGeneration3,
+    QualityRefinement3, Source3, SpacingField3, VolumeLimits,
 };
 use delmesh_predicates::{orient3d, Sign};
 use delmesh_smoothing::{dihedral_range, QualityReport3, SmoothStats, Smoother3};
 use rayon::prelude::*;
 
+use crate::surface_split::{facet_caps, split_surface};
 use crate::{units, Error};
 
 /// Where the spacing of 3D point generation comes from.
@@ -116,6 +117,10 @@ pub struct MeshRun3 {
     pub restoration: Option<Restoration3>,
     /// Points added by quality refinement.
     pub refined: usize,
+    /// Points added at the centroids of tetrahedra larger than their region's volume limit
+    /// ([`RegionSeed3::max_volume`]), before smoothing and after the restoration; `None` when
+    /// no region has a limit or no points are generated.
+    pub volume_limited: Option<usize>,
     /// Elements lying flat on the surface taken out after the restoration
     /// ([`Mesh3::remove_flat_surface_elements`]).
     pub flat_removed: usize,
@@ -228,6 +233,18 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
         timings.push((name, clock.elapsed().as_secs_f64()));
         clock = Instant::now();
     };
+    // Regional volume limits are honoured when points are generated: generation's spacing is
+    // capped there, and too large tetrahedra are split.
+    let base = u64::from(plc.first_index);
+    for (k, r) in plc.regions.iter().enumerate() {
+        if let Some(value) = r.max_volume.filter(|v| v.is_nan() || *v <= 0.0) {
+            let region = k as u64 + base;
+            return Err(PointGenError::BadVolumeLimit { region, value }.into());
+        }
+    }
+    let limits = (options.generation.is_some() && plc.has_volume_limits())
+        .then(|| VolumeLimits::new(plc.volume_limits()));
+    let mut volume_limited = limits.as_ref().map(|_| 0);
     let mut recovery = BoundaryRecovery3::new(options.recovery)
         .with_points(options.extra_points.clone())
         .merge_coplanar(options.merge_coplanar);
@@ -235,6 +252,35 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
         recovery = recovery.max_steiner_points(n);
     }
     let mut mesh = recovery.run(plc)?;
+    // The surface next to a limited region is split to its spacing (see `surface_split`),
+    // once the recovery has told which regions each facet bounds; then recovered again.
+    let split;
+    let plc = match &limits {
+        Some(limits) => {
+            if let Some((tag, volume, elements)) =
+                limits.asking_too_much(&mesh, MAX_LIMITED_ELEMENTS)
+            {
+                return Err(PointGenError::VolumeLimitTooSmall {
+                    region: (tag.max(1) - 1) as u64 + base,
+                    max_volume: plc.volume_limits()[tag],
+                    volume,
+                    elements,
+                }
+                .into());
+            }
+            let n_facets = plc.triangles.iter().map(|t| t.facet as usize + 1).max();
+            let caps = facet_caps(&mesh, &limits.spacing_caps(), n_facets.unwrap_or(0));
+            match split_surface(plc, &caps)? {
+                Some(p) => {
+                    split = p;
+                    mesh = recovery.run(&split)?;
+                    &split
+                }
+                None => plc,
+            }
+        }
+        None => plc,
+    };
     lap("boundary recovery", &mut timings);
     let mut refined = 0;
     let generation = match &options.generation {
@@ -246,11 +292,26 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
             for s in &options.sources {
                 field = field.with_source(*s);
             }
-            let report = settings.run(&mut mesh, |p, from_nodes| field.spacing(p, from_nodes))?;
+            let caps = limits
+                .as_ref()
+                .map_or_else(Vec::new, VolumeLimits::spacing_caps);
+            let report = settings.run_capped(
+                &mut mesh,
+                |p, from_nodes| field.spacing(p, from_nodes),
+                &caps,
+            )?;
             lap("point generation", &mut timings);
             if let Some(refinement) = &options.refinement {
                 refined = refinement.run(&mut mesh)?;
                 lap("quality refinement", &mut timings);
+            }
+            if let (Some(limits), Some(n)) = (&limits, &mut volume_limited) {
+                let budget = settings
+                    .max_points
+                    .saturating_sub(report.points_added() + refined);
+                // (The restoration after smoothing makes the mesh Delaunay again.)
+                *n += limits.run(&mut mesh, budget, false);
+                lap("volume limits", &mut timings);
             }
             Some(report)
         }
@@ -298,6 +359,21 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
     } else {
         (measure_before(), None)
     };
+    // Moves change volumes: the limits are checked again once the mesh is Delaunay again.
+    if let (Some(limits), Some(n), Some(settings), Some(report), Some(_)) = (
+        &limits,
+        &mut volume_limited,
+        &options.generation,
+        &generation,
+        &restoration,
+    ) {
+        let budget = settings
+            .max_points
+            .saturating_sub(report.points_added() + refined + *n);
+        let delaunay = recovery_history.method != RecoveryMethod3::Constrained
+            || recovery_history.constrained_fallback;
+        *n += limits.run(&mut mesh, budget, delaunay);
+    }
     let mut flat_removed = 0;
     if restoration.is_some() {
         flat_removed = mesh.remove_flat_surface_elements();
@@ -316,6 +392,7 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
         generation,
         restoration,
         refined,
+        volume_limited,
         flat_removed,
         flat_split,
         duplicate_walls,
@@ -326,6 +403,10 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
         marker_names: plc.marker_names.clone(),
     })
 }
+
+/// Tetrahedra at most that volume limits may ask for: cell ids are 32-bit, and the
+/// triangulation holds the hull's cells besides the domain's.
+const MAX_LIMITED_ELEMENTS: f64 = (1u64 << 30) as f64;
 
 /// How [`mesh_plc3`] restored the Delaunay property after point generation and smoothing.
 #[derive(Clone, Debug)]
@@ -556,6 +637,11 @@ impl MeshRun3 {
             s.push_str(&format!(
                 "quality refinement: {} points added\n",
                 self.refined
+            ));
+        }
+        if let Some(n) = self.volume_limited {
+            s.push_str(&format!(
+                "regional volume limits: {n} points added at centroids\n"
             ));
         }
         match &self.restoration {

@@ -65,6 +65,28 @@ pub enum PointGenError {
         /// Where (z).
         z: f64,
     },
+    /// A region's volume limit is not a positive number.
+    #[error("region {region}: the maximum volume must be positive (got {value})")]
+    BadVolumeLimit {
+        /// The region's number.
+        region: u64,
+        /// The value.
+        value: f64,
+    },
+    /// Volume limits ask for more tetrahedra than the mesh's 32-bit indices hold.
+    #[error(
+        "region {region}: a maximum volume of {max_volume:e} asks for about {elements:.1e} tetrahedra in the region's volume of {volume:e}, more than delmesh can index (2^30)"
+    )]
+    VolumeLimitTooSmall {
+        /// The region's number.
+        region: u64,
+        /// Its limit.
+        max_volume: f64,
+        /// Its volume.
+        volume: f64,
+        /// Tetrahedra it asks for at least.
+        elements: f64,
+    },
     /// A 3D candidate could not be inserted (a bad coordinate).
     #[error(transparent)]
     Insertion3(#[from] delmesh_delaunay_core::TriangulationError),

@@ -119,6 +119,21 @@ impl PointGeneration3 {
         mesh: &mut Mesh3,
         spacing: impl Fn([f64; 3], f64) -> f64 + Sync,
     ) -> Result<GenerationReport3, PointGenError> {
+        self.run_capped(mesh, spacing, &[])
+    }
+
+    /// [`PointGeneration3::run`] with the spacing in each region (by region index, as cells
+    /// are tagged) at most `region_caps[tag]` (regions past the end: no cap), as volume limits
+    /// ask (see [`crate::VolumeLimits`]).
+    ///
+    /// # Errors
+    /// As [`PointGeneration3::run`].
+    pub fn run_capped(
+        &self,
+        mesh: &mut Mesh3,
+        spacing: impl Fn([f64; 3], f64) -> f64 + Sync,
+        region_caps: &[f64],
+    ) -> Result<GenerationReport3, PointGenError> {
         if !(self.alpha > 0.0 && self.alpha.is_finite()) {
             return Err(PointGenError::BadAlpha(self.alpha));
         }
@@ -142,7 +157,7 @@ impl PointGeneration3 {
                 .par_iter()
                 .with_min_len(1 << 10)
                 .map(|&c| {
-                    let (g, k) = self.candidate(mesh_now, c, dp_now, &spacing, tiny);
+                    let (g, k) = self.candidate(mesh_now, c, dp_now, &spacing, region_caps, tiny);
                     (frame.key(g) << 32 | u64::from(c.0), k)
                 })
                 .collect();
@@ -163,7 +178,7 @@ impl PointGeneration3 {
                 }
                 let replaced = made.get(c.index()).copied().unwrap_or(false);
                 let now = if replaced {
-                    self.candidate(mesh, c, &dp, &spacing, tiny).1
+                    self.candidate(mesh, c, &dp, &spacing, region_caps, tiny).1
                 } else {
                     early
                 };
@@ -242,6 +257,7 @@ impl PointGeneration3 {
         c: CellId,
         dp: &[f64],
         spacing: &impl Fn([f64; 3], f64) -> f64,
+        region_caps: &[f64],
         tiny: f64,
     ) -> ([f64; 3], Candidate3) {
         let nothing = ([0.0; 3], Candidate3::Refused);
@@ -260,6 +276,10 @@ impl PointGeneration3 {
         if !(h > 0.0 && h.is_finite()) {
             return (g, Candidate3::BadSpacing { value: h, at: g });
         }
+        let h = match region_caps.get(mesh.ct.tag(c) as usize) {
+            Some(&cap) => h.min(cap),
+            None => h,
+        };
         let reach2 = (self.alpha * h) * (self.alpha * h);
         let dist2 = |q: [f64; 3]| {
             (q[0] - g[0]) * (q[0] - g[0])

@@ -5,7 +5,7 @@
 //! optional analytic sources. [`PointGeneration`] fills a boundary-conforming mesh with points
 //! by Weatherill's α criterion, in passes ([`GenerationReport`]); [`QualityRefinement`] then
 //! removes the few skinny elements left where the spacing changes fast, and [`AreaLimits`]
-//! makes sure no element is larger than its region's area limit.
+//! makes sure no element is larger than its region's area limit ([`VolumeLimits`] in 3D).
 
 mod area;
 mod generate;
@@ -14,6 +14,7 @@ mod refine;
 mod refine3;
 mod spacing;
 mod spacing3;
+mod volume;
 
 pub use area::AreaLimits;
 pub use generate::{
@@ -24,3 +25,4 @@ pub use refine::QualityRefinement;
 pub use refine3::QualityRefinement3;
 pub use spacing::*;
 pub use spacing3::*;
+pub use volume::{spacing_for_volume, VolumeLimits};
