@@ -121,6 +121,11 @@ pub struct MeshRun3 {
     /// ([`RegionSeed3::max_volume`]), before smoothing and after the restoration; `None` when
     /// no region has a limit or no points are generated.
     pub volume_limited: Option<usize>,
+    /// Tetrahedra still larger than their region's volume limit at the end, their centroids
+    /// refused (a cavity not star-shaped next to the faces a constrained recovery flipped in;
+    /// a new element that would break the Delaunay property next to the surface; or, without
+    /// the restoration, `delaunay: false`, moved by smoothing); 0 without limits.
+    pub volume_limit_exceeded: usize,
     /// Elements lying flat on the surface taken out after the restoration
     /// ([`Mesh3::remove_flat_surface_elements`]).
     pub flat_removed: usize,
@@ -374,6 +379,7 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
             || recovery_history.constrained_fallback;
         *n += limits.run(&mut mesh, budget, delaunay);
     }
+    let volume_limit_exceeded = limits.as_ref().map_or(0, |l| l.exceeding(&mesh));
     let mut flat_removed = 0;
     if restoration.is_some() {
         flat_removed = mesh.remove_flat_surface_elements();
@@ -393,6 +399,7 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
         restoration,
         refined,
         volume_limited,
+        volume_limit_exceeded,
         flat_removed,
         flat_split,
         duplicate_walls,
@@ -643,6 +650,14 @@ impl MeshRun3 {
             s.push_str(&format!(
                 "regional volume limits: {n} points added at centroids\n"
             ));
+            if self.volume_limit_exceeded > 0 {
+                s.push_str(&format!(
+                    "warning: {} tetrahedra are still larger than their region's limit (their \
+                     centroids refused: the cavity not star-shaped next to faces recovered by \
+                     flips, or the mesh not staying Delaunay next to the surface)\n",
+                    self.volume_limit_exceeded
+                ));
+            }
         }
         match &self.restoration {
             Some(Restoration3::Flips {

@@ -872,6 +872,7 @@ fn regional_volume_limits_bound_every_tetrahedron() {
             a.faces.len()
         );
         assert!(run.volume_limited.is_some());
+        assert_eq!(run.volume_limit_exceeded, 0, "{recovery:?}");
     }
     // Without point generation the limits are not applied; a limit that is not positive is an
     // error naming the region, and one asking for more than 2^30 tetrahedra is refused.

@@ -66,6 +66,13 @@ impl VolumeLimits {
         Some((tag, volume[tag], need[tag]))
     }
 
+    /// How many tetrahedra of `mesh` are larger than their region's limit (centroids refused:
+    /// in a constrained recovery's mesh, next to the faces flipped in, a cavity is not always
+    /// star-shaped).
+    pub fn exceeding(&self, mesh: &Mesh3) -> usize {
+        mesh.elements().filter(|&c| self.exceeded(mesh, c)).count()
+    }
+
     fn exceeded(&self, mesh: &Mesh3, c: CellId) -> bool {
         let limit = self
             .limits
