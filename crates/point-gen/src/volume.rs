@@ -12,8 +12,9 @@
 //! height of a tetrahedron of volume above `V` in a domain of diameter `D` is above `6V/D²`:
 //! each point added is farther than `3V/(2D²)` from every other, so the passes end. The
 //! insertion is the refinement's (its cavity never crosses a boundary face and must be
-//! star-shaped; after the restoration, it must keep the mesh Delaunay too): a refused centroid
-//! leaves its tetrahedron as it is.
+//! star-shaped; after the restoration, it must keep the mesh Delaunay too). Where the mesh
+//! need not stay Delaunay (before the restoration, and in a constrained recovery's mesh) a
+//! refused centroid splits its tetrahedron in four instead; elsewhere it leaves it as it is.
 
 use delmesh_boundary_recovery::{Mesh3, OUTSIDE};
 use delmesh_delaunay_core::CellId;
@@ -112,13 +113,20 @@ impl VolumeLimits {
                 let g = [0, 1, 2].map(|k| 0.25 * (p[0][k] + p[1][k] + p[2][k] + p[3][k]));
                 let spacing = 0.25 * corners.iter().map(|u| mesh.spacing[u.index()]).sum::<f64>();
                 let tag = mesh.ct.tag(c);
-                let inserted = mesh.ct.insert_if_fine(
+                let mut inserted = mesh.ct.insert_if_fine(
                     g,
                     c,
                     |ct, cell| ct.tag(cell) == tag,
                     |_| true,
                     keep_delaunay,
                 );
+                // Refused (a cavity that is not star-shaped, next to faces a constrained
+                // recovery flipped in): where the mesh need not stay Delaunay, the tetrahedron
+                // is split in four at its centroid, which is valid in any mesh (the new cells
+                // keep its region and its protected faces).
+                if matches!(inserted, Ok(None)) && !keep_delaunay {
+                    inserted = mesh.ct.insert_splitting(g, corners[0]);
+                }
                 if let Ok(Some(nv)) = inserted {
                     mesh.set_interior_spacing(nv, spacing);
                     next.extend_from_slice(mesh.ct.last_new_cells());
