@@ -121,10 +121,9 @@ pub struct MeshRun3 {
     /// ([`RegionSeed3::max_volume`]), before smoothing and after the restoration; `None` when
     /// no region has a limit or no points are generated.
     pub volume_limited: Option<usize>,
-    /// Tetrahedra still larger than their region's volume limit at the end, their centroids
-    /// refused (a cavity not star-shaped next to the faces a constrained recovery flipped in;
-    /// a new element that would break the Delaunay property next to the surface; or, without
-    /// the restoration, `delaunay: false`, moved by smoothing); 0 without limits.
+    /// Tetrahedra still larger than their region's volume limit at the end: their centroids
+    /// refused where a new element would break the Delaunay property next to the surface, or,
+    /// without the restoration (`delaunay: false`), grown by smoothing; 0 without limits.
     pub volume_limit_exceeded: usize,
     /// Elements lying flat on the surface taken out after the restoration
     /// ([`Mesh3::remove_flat_surface_elements`]).
@@ -653,8 +652,8 @@ impl MeshRun3 {
             if self.volume_limit_exceeded > 0 {
                 s.push_str(&format!(
                     "warning: {} tetrahedra are still larger than their region's limit (their \
-                     centroids refused: the cavity not star-shaped next to faces recovered by \
-                     flips, or the mesh not staying Delaunay next to the surface)\n",
+                     centroids refused where the mesh would not stay Delaunay next to the \
+                     surface)\n",
                     self.volume_limit_exceeded
                 ));
             }

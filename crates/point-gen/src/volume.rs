@@ -67,9 +67,8 @@ impl VolumeLimits {
         Some((tag, volume[tag], need[tag]))
     }
 
-    /// How many tetrahedra of `mesh` are larger than their region's limit (centroids refused:
-    /// in a constrained recovery's mesh, next to the faces flipped in, a cavity is not always
-    /// star-shaped).
+    /// How many tetrahedra of `mesh` are larger than their region's limit (after [`Self::run`]:
+    /// those whose centroid would have broken the Delaunay property it was asked to keep).
     pub fn exceeding(&self, mesh: &Mesh3) -> usize {
         mesh.elements().filter(|&c| self.exceeded(mesh, c)).count()
     }
