@@ -405,14 +405,19 @@ impl<'a> State<'a> {
         self.tri.input_index(v) < self.checked.points.len()
     }
 
+    /// Sets the spacing of vertex `v`, growing the array (NaN: none known) to hold it.
+    fn set_spacing(&mut self, v: VertexId, spacing: f64) {
+        if self.spacing.len() <= v.index() {
+            self.spacing.resize(v.index() + 1, f64::NAN);
+        }
+        self.spacing[v.index()] = spacing;
+    }
+
     /// Inserts a new vertex with a spacing value.
     fn add_vertex(&mut self, p: [f64; 2], spacing: f64) -> Result<Option<VertexId>, RecoveryError> {
         match self.tri.insert(p)? {
             Insertion::Inserted(v) => {
-                if self.spacing.len() <= v.index() {
-                    self.spacing.resize(v.index() + 1, f64::NAN);
-                }
-                self.spacing[v.index()] = spacing;
+                self.set_spacing(v, spacing);
                 Ok(Some(v))
             }
             Insertion::Duplicate(_) => Ok(None),
@@ -505,13 +510,12 @@ impl<'a> State<'a> {
         &mut self,
         history: &mut RecoveryHistory,
     ) -> Result<ConstrainedTriangulation2, RecoveryError> {
-        let state = self;
         let mut cdt = ConstrainedTriangulation2::new(std::mem::replace(
-            &mut state.tri,
+            &mut self.tri,
             Triangulation2::new(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])?,
         ));
-        let mut pass = state.pass_of(cdt.triangulation(), 0);
-        pass.missing = state
+        let mut pass = self.pass_of(cdt.triangulation(), 0);
+        pass.missing = self
             .subs
             .iter()
             .filter(|s| cdt.find_edge(s.a, s.b).is_none())
@@ -520,24 +524,24 @@ impl<'a> State<'a> {
         // A vertex found inside a segment splits it there (as the input checks do for
         // the other methods); pieces that overlapping collinear segments share are
         // kept once.
-        let mut work: Vec<Sub> = std::mem::take(&mut state.subs);
+        let mut work: Vec<Sub> = std::mem::take(&mut self.subs);
         work.reverse();
         let mut present = std::collections::HashSet::new();
         while let Some(s) = work.pop() {
             match cdt.insert_segment(s.a, s.b) {
                 Ok(()) => {
                     if present.insert((s.a.min(s.b), s.a.max(s.b))) {
-                        state.subs.push(s);
+                        self.subs.push(s);
                     }
                 }
                 Err(ConstraintError::VertexOnSegment { vertex, .. }) => {
                     work.push(Sub { a: vertex, ..s });
                     work.push(Sub { b: vertex, ..s });
                 }
-                Err(e) => return Err(state.constraint_error(e, s.segment)),
+                Err(e) => return Err(self.constraint_error(e, s.segment)),
             }
         }
-        history.passes.push(state.pass_of(cdt.triangulation(), 0));
+        history.passes.push(self.pass_of(cdt.triangulation(), 0));
         Ok(cdt)
     }
 
@@ -578,10 +582,7 @@ impl<'a> State<'a> {
                 if v == a || v == s.b {
                     continue;
                 }
-                if self.spacing.len() <= v.index() {
-                    self.spacing.resize(v.index() + 1, f64::NAN);
-                }
-                self.spacing[v.index()] = length;
+                self.set_spacing(v, length);
                 if a == s.a {
                     self.subs[i].b = v;
                 } else {

@@ -272,8 +272,7 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
                 }
                 .into());
             }
-            let n_facets = plc.triangles.iter().map(|t| t.facet as usize + 1).max();
-            let caps = facet_caps(&mesh, &limits.spacing_caps(), n_facets.unwrap_or(0));
+            let caps = facet_caps(&mesh, &limits.spacing_caps());
             match split_surface(plc, &caps)? {
                 Some(p) => {
                     split = p;

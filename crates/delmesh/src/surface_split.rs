@@ -16,36 +16,32 @@ use delmesh_delaunay_core::VertexId;
 use delmesh_point_gen::{PointGeneration, Source};
 use rayon::prelude::*;
 
+use crate::geometry3::{cross, dist, dot, sub};
 use crate::mesh2d::{mesh_plc, MeshOptions2};
 use crate::Error;
 
 /// The finest spacing asked of each facet (by facet id): the smallest cap (by region index) of
-/// the regions on either side of its faces in `mesh`, infinite where none is capped.
-pub(crate) fn facet_caps(mesh: &Mesh3, caps: &[f64], n_facets: usize) -> Vec<f64> {
+/// the regions on either side of its faces in `mesh`; facets with none are left out.
+pub(crate) fn facet_caps(mesh: &Mesh3, caps: &[f64]) -> HashMap<u32, f64> {
     let mut facet_of: HashMap<[VertexId; 3], u32> = HashMap::with_capacity(mesh.faces.len());
     for f in &mesh.faces {
         let mut v = f.v;
         v.sort_unstable();
         facet_of.insert(v, f.facet);
     }
-    let mut out = vec![f64::INFINITY; n_facets];
+    let mut out = HashMap::new();
     let tri = mesh.ct.triangulation();
     for c in mesh.elements() {
-        let Some(&cap) = caps.get(mesh.ct.tag(c) as usize) else {
+        let Some(&cap) = caps.get(mesh.ct.tag(c) as usize).filter(|h| h.is_finite()) else {
             continue;
         };
         let v = tri.cell(c);
         for skip in 0..4 {
-            let mut face = [0, 1, 2, 3]
-                .into_iter()
-                .filter(|&k| k != skip)
-                .map(|k| v[k]);
-            let mut key = [(); 3].map(|_| face.next().unwrap_or(VertexId(0)));
+            let mut key = [1, 2, 3].map(|k| v[(skip + k) % 4]);
             key.sort_unstable();
             if let Some(&f) = facet_of.get(&key) {
-                if let Some(o) = out.get_mut(f as usize) {
-                    *o = o.min(cap);
-                }
+                let o = out.entry(f).or_insert(f64::INFINITY);
+                *o = cap.min(*o);
             }
         }
     }
@@ -57,13 +53,11 @@ pub(crate) fn facet_caps(mesh: &Mesh3, caps: &[f64], n_facets: usize) -> Vec<f64
 ///
 /// # Errors
 /// Only if meshing a triangle in its plane fails, which would be a bug.
-pub(crate) fn split_surface(plc: &Plc3, facet_caps: &[f64]) -> Result<Option<Plc3>, Error> {
-    let cap_of = |t: &SurfaceTriangle| {
-        facet_caps
-            .get(t.facet as usize)
-            .copied()
-            .unwrap_or(f64::INFINITY)
-    };
+pub(crate) fn split_surface(
+    plc: &Plc3,
+    facet_caps: &HashMap<u32, f64>,
+) -> Result<Option<Plc3>, Error> {
+    let cap_of = |t: &SurfaceTriangle| facet_caps.get(&t.facet).copied().unwrap_or(f64::INFINITY);
     // Pieces of each edge (by sorted ends): enough for the finest triangle on it.
     let mut pieces: HashMap<(u32, u32), usize> = HashMap::new();
     for t in &plc.triangles {
@@ -80,12 +74,8 @@ pub(crate) fn split_surface(plc: &Plc3, facet_caps: &[f64]) -> Result<Option<Plc
             *e = (*e).max(n);
         }
     }
-    if pieces.values().all(|&n| n == 1)
-        && plc.triangles.iter().all(|t| {
-            let p = t.v.map(|i| plc.points[i as usize]);
-            area(p) <= cap_of(t) * cap_of(t)
-        })
-    {
+    // (A triangle whose edges are all within its cap needs no point inside either.)
+    if pieces.values().all(|&n| n == 1) {
         return Ok(None);
     }
     let mut out = Plc3 {
@@ -233,34 +223,8 @@ fn mesh_in_plane(
     Ok(a.triangles.iter().map(|t| t.map(corner)).collect())
 }
 
-fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
-    let d = sub(a, b);
-    dot(d, d).sqrt()
-}
-
-fn area(p: [[f64; 3]; 3]) -> f64 {
-    let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
-    0.5 * dot(n, n).sqrt()
-}
-
 fn lerp(a: [f64; 3], b: [f64; 3], t: f64) -> [f64; 3] {
     [0, 1, 2].map(|k| a[k] + t * (b[k] - a[k]))
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 fn normalise(a: [f64; 3]) -> [f64; 3] {

@@ -829,6 +829,10 @@ fn regional_volume_limits_bound_every_tetrahedron() {
     // region's limit, and the surface was split to the finer spacing (the tetrahedra on a
     // large surface triangle were flat: 72,796 slivers in a cube limited to 1e-4).
     let mut plc = geometry3::blocks(2, 1);
+    // Facet ids are the caller's: large ones must not size anything.
+    for t in &mut plc.triangles {
+        t.facet += 4_000_000_000;
+    }
     let limits = [2e-4, 2e-3];
     for (r, &v) in plc.regions.iter_mut().zip(&limits) {
         r.max_volume = Some(v);

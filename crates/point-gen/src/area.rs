@@ -14,7 +14,7 @@
 //!
 //! [`SpacingField::with_area_limits`]: crate::SpacingField::with_area_limits
 
-use crate::generate::{elements_where, PointGenError};
+use crate::generate::{elements_where, set, PointGenError};
 use delmesh_boundary_recovery::Mesh2;
 use delmesh_delaunay_core::{CellId, ConstraintError, Insertion};
 
@@ -91,10 +91,7 @@ impl AreaLimits {
                 });
                 match result {
                     Ok(Some(Insertion::Inserted(v))) => {
-                        if mesh.spacing.len() <= v.index() {
-                            mesh.spacing.resize(v.index() + 1, f64::NAN);
-                        }
-                        mesh.spacing[v.index()] = spacing;
+                        set(&mut mesh.spacing, v, spacing);
                         inserted += 1;
                     }
                     Ok(_) | Err(ConstraintError::OutsideHull { .. }) => {}

@@ -444,7 +444,8 @@ pub(crate) fn elements_where(mesh: &Mesh2, keep: impl Fn(CellId) -> bool + Sync)
         .collect()
 }
 
-fn set(values: &mut Vec<f64>, v: VertexId, x: f64) {
+/// Sets `values[v]`, growing `values` with NaN to hold it (per-vertex spacing).
+pub(crate) fn set(values: &mut Vec<f64>, v: VertexId, x: f64) {
     if values.len() <= v.index() {
         values.resize(v.index() + 1, f64::NAN);
     }

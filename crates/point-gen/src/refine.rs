@@ -18,7 +18,7 @@
 use delmesh_boundary_recovery::{Mesh2, OUTSIDE};
 use delmesh_delaunay_core::Insertion;
 
-use crate::generate::{elements_where, PointGenError};
+use crate::generate::{elements_where, set, PointGenError};
 
 /// Settings of quality refinement.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,10 +94,7 @@ impl QualityRefinement {
                 });
                 match result {
                     Ok(Some(Insertion::Inserted(nv))) => {
-                        if mesh.spacing.len() <= nv.index() {
-                            mesh.spacing.resize(nv.index() + 1, f64::NAN);
-                        }
-                        mesh.spacing[nv.index()] = spacing;
+                        set(&mut mesh.spacing, nv, spacing);
                         inserted += 1;
                         added += 1;
                     }
