@@ -21,9 +21,10 @@ use crate::classify::{classify, OUTSIDE};
 use crate::error::RecoveryError;
 use crate::plc::{spacing_for_area, Plc2};
 use delmesh_delaunay_core::{
-    insertion_order, CellId, ConstrainedTriangulation2, ConstraintError, Insertion, Triangulation2,
-    VertexId, D2,
+    insertion_order, CellId, ConstrainedTriangulation2, ConstraintError, Insertion, Location,
+    Triangulation2, VertexId, D2,
 };
+use delmesh_predicates::{orient2d, Sign};
 use std::collections::HashMap;
 use std::fmt;
 
@@ -262,7 +263,7 @@ impl BoundaryRecovery {
                 let at: Vec<[f64; 2]> = placed.iter().map(|p| p.point).collect();
                 for i in insertion_order::<D2>(&at) {
                     let p = &placed[i as usize];
-                    state.add_vertex(p.point, p.spacing)?;
+                    state.add_vertex(p.point, None, p.spacing)?;
                 }
                 let mut pass = before;
                 pass.inserted = state.tri.num_vertices() - before.points;
@@ -413,9 +414,19 @@ impl<'a> State<'a> {
         self.spacing[v.index()] = spacing;
     }
 
-    /// Inserts a new vertex with a spacing value.
-    fn add_vertex(&mut self, p: [f64; 2], spacing: f64) -> Result<Option<VertexId>, RecoveryError> {
-        match self.tri.insert(p)? {
+    /// Inserts a new vertex with a spacing value, its location walk starting next to `near`
+    /// if given.
+    fn add_vertex(
+        &mut self,
+        p: [f64; 2],
+        near: Option<VertexId>,
+        spacing: f64,
+    ) -> Result<Option<VertexId>, RecoveryError> {
+        let inserted = match near {
+            Some(v) => self.tri.insert_near(p, v)?,
+            None => self.tri.insert(p)?,
+        };
+        match inserted {
             Insertion::Inserted(v) => {
                 self.set_spacing(v, spacing);
                 Ok(Some(v))
@@ -437,10 +448,18 @@ impl<'a> State<'a> {
     /// pieces after 8 passes of growth, then fewer.)
     fn stitch(&mut self, history: &mut RecoveryHistory) -> Result<(), RecoveryError> {
         let (mut fewest, mut last, mut growing) = (usize::MAX, usize::MAX, 0);
+        // A cell that had each sub-segment when last checked: most survive a pass, and are
+        // then confirmed by reading that one cell.
+        let mut found: Vec<Option<CellId>> = Vec::new();
         loop {
-            let missing: Vec<usize> = (0..self.subs.len())
-                .filter(|&i| !self.tri.has_edge(self.subs[i].a, self.subs[i].b))
-                .collect();
+            found.resize(self.subs.len(), None);
+            let mut missing = Vec::new();
+            for (i, s) in self.subs.iter().enumerate() {
+                found[i] = self.tri.edge_cell(s.a, s.b, found[i]);
+                if found[i].is_none() {
+                    missing.push(i);
+                }
+            }
             let mut pass = self.pass(0);
             pass.missing = missing.len();
             if missing.is_empty() {
@@ -485,7 +504,7 @@ impl<'a> State<'a> {
                     self.spacing[self.tri.vertex_of_input(seg.a as usize).index()],
                     self.spacing[self.tri.vertex_of_input(seg.b as usize).index()],
                 );
-                let Some(v) = self.add_vertex(split, da + t * (db - da))? else {
+                let Some(v) = self.add_vertex(split, Some(s.a), da + t * (db - da))? else {
                     return Err(RecoveryError::NotRecovered {
                         segment: u64::from(self.checked.origin[s.segment as usize])
                             + u64::from(self.plc.first_index),
@@ -775,8 +794,7 @@ fn a_priori_points(
             // Unit normal into this side (left of a → b for sign +1).
             let n = [-sign * (pb[1] - pa[1]) / len, sign * (pb[0] - pa[0]) / len];
             match empty_circle(&grid, cell, key, pa, pb, m, n, len) {
-                Some(q) if matches!(cdt.locate(q), delmesh_delaunay_core::Location::Cell(cq) if cdt.tag(cq) == tag) =>
-                {
+                Some(q) if lands_in_region(cdt, q, side_cell, tag) => {
                     grid.entry(key(q)).or_default().push(q);
                     placed.push(Placed {
                         point: q,
@@ -789,6 +807,27 @@ fn a_priori_points(
         }
     }
     placed
+}
+
+/// Whether `q` lies inside region `tag` and off its boundary edges (a point rounded onto a
+/// thin region's boundary edge is on both sides; which cell the walk then ends in depends on
+/// where it starts). The walk starts at `near`, a cell next to `q`.
+fn lands_in_region(
+    cdt: &mut ConstrainedTriangulation2,
+    q: [f64; 2],
+    near: CellId,
+    tag: u32,
+) -> bool {
+    let Location::Cell(c) = cdt.locate_near(q, near) else {
+        return false;
+    };
+    let t = cdt.triangulation();
+    let v = t.cell(c);
+    cdt.tag(c) == tag
+        && (0..3).all(|i| {
+            !cdt.is_constrained(c, i)
+                || orient2d(t.vertex(v[(i + 1) % 3]), t.vertex(v[(i + 2) % 3]), q) != Sign::Zero
+        })
 }
 
 impl State<'_> {

@@ -327,6 +327,12 @@ impl ConstrainedTriangulation2 {
         self.tri.locate(point)
     }
 
+    /// As [`ConstrainedTriangulation2::locate`], the walk starting at cell `near` (see
+    /// [`Triangulation::locate_near`]).
+    pub fn locate_near(&mut self, point: [f64; 2], near: CellId) -> Location {
+        self.tri.locate_near(point, near)
+    }
+
     fn insert_where(
         &mut self,
         point: [f64; 2],

@@ -561,6 +561,20 @@ impl<D: Dim> Triangulation<D> {
         self.locate_from(p, self.last)
     }
 
+    /// As [`Triangulation::locate`], with the walk starting at cell `near` (if it is a live
+    /// cell): much shorter when the caller knows a cell close to the point.
+    pub fn locate_near(&mut self, point: D::Point, near: CellId) -> Location {
+        let p = tri_scale::<D>(point, self.scale);
+        let start = if near.index() < self.simplices.len()
+            && self.simplices[near.index()].v[0] != VertexId::DEAD
+        {
+            near
+        } else {
+            self.last
+        };
+        self.locate_from(p, start)
+    }
+
     /// Visibility walk (the paper's §5 search, with exact orientation tests): from `start`,
     /// repeatedly cross a facet that has the point strictly on its far side. Delaunay
     /// triangulations have no cycles for this walk; the facet tried first is random, which keeps
@@ -1380,8 +1394,12 @@ impl<D: Dim> Triangulation<D> {
         if v.is_ghost() || v.index() >= self.num_vertices() {
             return Vec::new();
         }
-        // Star of v: cells containing v, connected through facets containing v.
+        // Star of v: cells containing v, connected through facets containing v. A list
+        // searched linearly while small; a set past that, since a vertex can have thousands
+        // of cells (the centre of a fan) and recovery asks about its edges over and over.
+        const LINEAR: usize = 64;
         let mut seen = vec![self.incident[v.index()]];
+        let mut set: std::collections::HashSet<CellId> = std::collections::HashSet::new();
         let mut i = 0;
         while i < seen.len() {
             let c = seen[i];
@@ -1390,7 +1408,15 @@ impl<D: Dim> Triangulation<D> {
             for (k, &u) in verts.iter().enumerate() {
                 if u != v {
                     let n = self.neighbor_facet(c, k).cell();
-                    if !seen.contains(&n) {
+                    let new = if seen.len() < LINEAR {
+                        !seen.contains(&n)
+                    } else {
+                        if set.is_empty() {
+                            set.extend(seen.iter().copied());
+                        }
+                        set.insert(n)
+                    };
+                    if new {
                         seen.push(n);
                     }
                 }
@@ -1402,7 +1428,47 @@ impl<D: Dim> Triangulation<D> {
 
     /// Whether the edge `a b` is in the triangulation.
     pub fn has_edge(&self, a: VertexId, b: VertexId) -> bool {
-        a != b && !self.cells_around(&[a, b]).is_empty()
+        self.edge_cell(a, b, None).is_some()
+    }
+
+    /// A cell (finite or ghost) that has the edge `a b`, or `None` if the edge is not in the
+    /// triangulation. `hint`, a cell that had the edge before some change, is tried first
+    /// (one cell read when the edge survived the change).
+    pub fn edge_cell(&self, a: VertexId, b: VertexId, hint: Option<CellId>) -> Option<CellId> {
+        let real = |v: VertexId| !v.is_ghost() && v.index() < self.num_vertices();
+        if a == b || !real(a) {
+            return None;
+        }
+        if let Some(h) = hint {
+            if h.index() < self.simplices.len() && self.is_live(h) {
+                let v = self.cell(h);
+                if v.contains(&a) && v.contains(&b) {
+                    return Some(h);
+                }
+            }
+        }
+        if D::C == 3 && real(b) {
+            // In 2D, turn around `a` and around `b` at once, one triangle each per step,
+            // until one finds the other or either turn closes: no search structure, and the
+            // work is bounded by the smaller of the two stars (recovery asks this of every
+            // boundary piece in every pass, and fan centres have thousands of triangles).
+            let start = [self.incident[a.index()], self.incident[b.index()]];
+            let mut c = start;
+            for _ in 0..self.simplices.len() {
+                for (k, (x, y)) in [(a, b), (b, a)].into_iter().enumerate() {
+                    let v = self.cell(c[k]);
+                    let i = v.iter().position(|&u| u == x).unwrap_or(0);
+                    if v[(i + 1) % 3] == y || v[(i + 2) % 3] == y {
+                        return Some(c[k]);
+                    }
+                    c[k] = self.neighbor_facet(c[k], (i + 1) % 3).cell();
+                    if c[k] == start[k] {
+                        return None;
+                    }
+                }
+            }
+        }
+        self.cells_around(&[a, b]).first().copied()
     }
 
     /// Whether the triangle `a b c` is in the triangulation (a facet in 3D, a cell in 2D).

@@ -480,3 +480,75 @@ fn renumbering_keeps_the_triangulation_in_2d_and_3d() {
         assert_eq!(kept, t3.all_cells().count());
     }
 }
+
+#[test]
+fn edge_queries_agree_with_the_cells_around_an_edge() {
+    // A fan centre of 400 triangles next to an ordinary jittered grid, plus hull vertices
+    // (ghost cells in the turn): every pair's answer, with no hint, a right hint, a stale one.
+    let mut pts2: Vec<[f64; 2]> = (0..400)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / 400.0;
+            [a.cos(), a.sin()]
+        })
+        .collect();
+    pts2.push([0.0, 0.0]);
+    for i in 0..6 {
+        for j in 0..6 {
+            let h = ((i * 7 + j * 3) % 5) as f64 * 0.013;
+            pts2.push([1.5 + 0.2 * i as f64 + h, -0.5 + 0.2 * j as f64 - h]);
+        }
+    }
+    let mut t2 = Triangulation2::new(&pts2).unwrap();
+    let n = t2.num_vertices() as u32;
+    let check = |t: &Triangulation2| {
+        for a in 0..n {
+            for b in 0..n {
+                let (a, b) = (VertexId(a), VertexId(b));
+                let want = a != b && !t.cells_around(&[a, b]).is_empty();
+                let got = t.edge_cell(a, b, None);
+                assert_eq!(got.is_some(), want, "edge {a:?} {b:?}");
+                assert_eq!(t.has_edge(a, b), want);
+                if let Some(c) = got {
+                    assert!(t.cell(c).contains(&a) && t.cell(c).contains(&b));
+                    assert_eq!(t.edge_cell(a, b, Some(c)), Some(c));
+                }
+            }
+        }
+    };
+    check(&t2);
+    // Hints that no longer hold the edge, or are free slots, after more insertions.
+    let hints: Vec<(VertexId, VertexId, CellId)> = t2
+        .cells()
+        .flat_map(|c| {
+            let v = t2.cell(c).to_vec();
+            [(v[0], v[1], c), (v[1], v[2], c)]
+        })
+        .collect();
+    for k in 0..50 {
+        let a = 0.3 * std::f64::consts::TAU * k as f64 / 50.0;
+        t2.insert([0.5 * a.cos(), 0.5 * a.sin()]).unwrap();
+    }
+    for &(a, b, c) in &hints {
+        let want = !t2.cells_around(&[a, b]).is_empty();
+        assert_eq!(t2.edge_cell(a, b, Some(c)).is_some(), want);
+    }
+    // 3D (the search over the vertex's star).
+    let pts3: Vec<[f64; 3]> = (0..60)
+        .map(|k| {
+            let x = k as f64;
+            [
+                (x * 0.37).sin(),
+                (x * 0.71).cos(),
+                (x * 0.13).sin() * (x * 0.5).cos(),
+            ]
+        })
+        .collect();
+    let t3 = Triangulation3::new(&pts3).unwrap();
+    for a in 0..t3.num_vertices() as u32 {
+        for b in 0..t3.num_vertices() as u32 {
+            let (a, b) = (VertexId(a), VertexId(b));
+            let want = a != b && !t3.cells_around(&[a, b]).is_empty();
+            assert_eq!(t3.has_edge(a, b), want, "edge {a:?} {b:?}");
+        }
+    }
+}

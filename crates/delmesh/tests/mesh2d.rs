@@ -454,3 +454,43 @@ fn regional_area_limits_bound_every_element() {
         .to_string();
     assert!(err.contains("region 0") && err.contains("2^30"), "{err}");
 }
+
+#[test]
+fn a_priori_points_rounded_onto_a_boundary_edge_are_refused() {
+    // A dangling segment starting one ulp from the square's corner: the a-priori point of the
+    // 1e-16 piece of the bottom edge rounds onto a boundary edge, where the walk could end in
+    // the cell on either side. It used to be placed there, and recovery then failed
+    // ("segment 2 could not be recovered after 45 splits"), depending on where the walk
+    // started.
+    let mut plc = Plc2::default();
+    polygon(&mut plc, &[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]);
+    plc.points.push([0.9999999999999999, 0.0]);
+    plc.points.push([0.7, 0.6]);
+    plc.segments.push(delmesh::recovery::Segment {
+        a: 4,
+        b: 5,
+        marker: 1,
+    });
+    for generation in [false, true] {
+        let mut options = MeshOptions2 {
+            recovery: RecoveryMethod::APriori,
+            ..MeshOptions2::default()
+        };
+        if !generation {
+            options.generation = None;
+        }
+        let run = mesh_plc(&plc, &options).unwrap();
+        run.mesh.cdt.validate().unwrap();
+        let area: f64 = run
+            .arrays
+            .triangles
+            .iter()
+            .map(|t| {
+                let p = t.map(|v| run.arrays.coords[v as usize]);
+                0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+                    - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]))
+            })
+            .sum();
+        assert!((area - 1.0).abs() < 1e-12, "area {area}");
+    }
+}
