@@ -292,7 +292,7 @@ impl ConstrainedTriangulation3 {
 
     /// Orientation of the four (finite) vertices `v`.
     #[inline]
-    fn orient(&self, v: [VertexId; 4]) -> Sign {
+    pub(crate) fn orient(&self, v: [VertexId; 4]) -> Sign {
         let q = v.map(|u| self.tri.points[u.index()]);
         orient3d(q[0], q[1], q[2], q[3])
     }

@@ -130,6 +130,11 @@ struct MeshArgs {
     /// Delaunay restoration).
     #[arg(long)]
     no_flips: bool,
+    /// 3D: at the end, flip away tetrahedra whose smallest dihedral angle is below DEG degrees
+    /// (e.g. 10 or 15) where edge and face flips improve the worst element around them (beyond
+    /// the paper; the mesh is then no longer Delaunay where flips were made).
+    #[arg(long, value_name = "DEG")]
+    sliver_flips: Option<f64>,
     /// 3D: no radius–edge refinement (circumcentres of tetrahedra whose circumradius exceeds
     /// twice their shortest edge) after point generation.
     #[arg(long)]
@@ -505,6 +510,7 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
         max_steiner_points: args.max_steiner,
         merge_coplanar: args.merge_coplanar,
         delaunay: !args.no_flips,
+        sliver_flips: args.sliver_flips,
         refinement: (!args.no_refinement).then(QualityRefinement3::default),
         smoothing: if args.no_smoothing {
             None
@@ -574,8 +580,12 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
     }
     if args.validate {
         // A constrained recovery is not Delaunay next to the edges and faces it flipped in.
-        let flipped = run.recovery.method == RecoveryMethod3::Constrained
-            && !run.recovery.constrained_fallback;
+        // Nor are sliver flips.
+        let flipped = (run.recovery.method == RecoveryMethod3::Constrained
+            && !run.recovery.constrained_fallback)
+            || run
+                .sliver_flips
+                .is_some_and(|f| f.edge_flips + f.face_flips > 0);
         let check = if !flipped && (run.restoration.is_some() || options.generation.is_none()) {
             run.mesh.ct.validate()
         } else {

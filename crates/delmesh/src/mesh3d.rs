@@ -21,16 +21,18 @@ use std::time::Instant;
 
 use delmesh_boundary_recovery::{
     BoundaryRecovery3, Mesh3, MeshArrays3, Plc3, PolygonFacet, RecoveryHistory3, RecoveryMethod3,
-    RecoveryStep, RegionSeed3, SurfaceTriangle,
+    RecoveryStep, RegionSeed3, SurfaceTriangle, OUTSIDE,
 };
-use delmesh_delaunay_core::{FacetRef, Flips3, VertexId};
+use delmesh_delaunay_core::{FacetRef, Flips3, Improvement3, VertexId};
 use delmesh_io::{SurfaceFile, TetMeshOut};
 use delmesh_point_gen::{
     Adaptation, BackgroundMesh3, GenerationReport3, PointGenError, PointGeneration3,
     QualityRefinement3, Source3, SpacingField3, VolumeLimits,
 };
 use delmesh_predicates::{orient3d, Sign};
-use delmesh_smoothing::{dihedral_range, QualityReport3, SmoothStats, Smoother3};
+use delmesh_smoothing::{
+    dihedral_range, min_dihedral_cosine, QualityReport3, SmoothStats, Smoother3,
+};
 use rayon::prelude::*;
 
 use crate::surface_split::{facet_caps, split_surface};
@@ -56,6 +58,10 @@ pub enum Spacing3 {
 /// 45.02° (at c394b6b, α = 0.57; at c50a56e, α = 0.55: 499, 192, 183, 176, 163, 161 slivers):
 /// four passes get most of it, in about half the time of ten.
 pub const SMOOTHING_PASSES: usize = 4;
+
+/// Passes of [`MeshOptions3::sliver_flips`] (each looks again at the elements still below
+/// the angle; most are done after two or three).
+const SLIVER_FLIP_PASSES: usize = 8;
 
 /// Options of the 3D pipeline; `Default` is the paper's method with its usual parameters.
 #[derive(Clone, Debug)]
@@ -83,6 +89,12 @@ pub struct MeshOptions3 {
     /// At the end, restore the constrained Delaunay property that smoothing and generation
     /// next to the boundary break (see [`restore_after_smoothing`]).
     pub delaunay: bool,
+    /// At the very end, flip away elements whose smallest dihedral angle is below this many
+    /// degrees where flips improve them (beyond the paper; the mesh is then no longer
+    /// Delaunay there): see [`ConstrainedTriangulation3::improve_by_flips`]. `None`: no flips.
+    ///
+    /// [`ConstrainedTriangulation3::improve_by_flips`]: delmesh_delaunay_core::ConstrainedTriangulation3::improve_by_flips
+    pub sliver_flips: Option<f64>,
 }
 
 impl Default for MeshOptions3 {
@@ -98,6 +110,7 @@ impl Default for MeshOptions3 {
             refinement: Some(QualityRefinement3::default()),
             smoothing: Some(Smoother3::new().iterations(SMOOTHING_PASSES)),
             delaunay: true,
+            sliver_flips: None,
         }
     }
 }
@@ -136,6 +149,8 @@ pub struct MeshRun3 {
     pub duplicate_walls: usize,
     /// What smoothing did, if it ran.
     pub smoothing: Option<SmoothStats>,
+    /// What the sliver flips did ([`MeshOptions3::sliver_flips`]), if they ran.
+    pub sliver_flips: Option<Improvement3>,
     /// Quality before smoothing (after point generation), if smoothing ran.
     pub quality_before_smoothing: Option<QualityReport3>,
     /// Quality of the final mesh.
@@ -387,6 +402,28 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
     } else if quality_before_smoothing.is_some() {
         lap("quality", &mut timings);
     }
+    let mut sliver_flips = None;
+    if let Some(degrees) = options.sliver_flips {
+        // Without the restoration the smoothed coordinates are in the arrays only (smoothing
+        // keeps every element positive, so the move is accepted).
+        let moved = restoration.is_some()
+            || smoothing.is_none()
+            || mesh
+                .ct
+                .move_vertices(&smoothing_moves(&mesh, &arrays))
+                .is_ok();
+        if moved {
+            // Larger is better: minus the cosine of the smallest dihedral angle.
+            sliver_flips = Some(mesh.ct.improve_by_flips(
+                -degrees.to_radians().cos(),
+                |p| -min_dihedral_cosine(p),
+                |tag| tag != OUTSIDE,
+                SLIVER_FLIP_PASSES,
+            ));
+            arrays = mesh.to_arrays();
+        }
+        lap("sliver flips", &mut timings);
+    }
     let quality = QualityReport3::of_mesh(&arrays.coords, &arrays.tets, &arrays.neighbours);
     lap("quality", &mut timings);
     Ok(MeshRun3 {
@@ -402,6 +439,7 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
         flat_split,
         duplicate_walls,
         smoothing,
+        sliver_flips,
         quality_before_smoothing,
         quality,
         timings,
@@ -715,6 +753,12 @@ impl MeshRun3 {
                 q.min_dihedral, q.max_dihedral, q.slivers
             ));
         }
+        if let Some(f) = &self.sliver_flips {
+            s.push_str(&format!(
+                "sliver flips: {} edges and {} faces flipped away; elements below the angle {} -> {}\n",
+                f.edge_flips, f.face_flips, f.below_before, f.below_after
+            ));
+        }
         s.push_str(&format!(
             "mesh: {} points, {} tetrahedra, {} boundary triangles\n",
             self.arrays.coords.len(),
@@ -952,6 +996,13 @@ impl MeshRun3 {
             ),
             None => "null".to_string(),
         };
+        let sliver_flips = match &self.sliver_flips {
+            Some(f) => format!(
+                "{{\"edge_flips\": {}, \"face_flips\": {}, \"below_before\": {}, \"below_after\": {}}}",
+                f.edge_flips, f.face_flips, f.below_before, f.below_after
+            ),
+            None => "null".to_string(),
+        };
         let timings = self
             .timings
             .iter()
@@ -959,7 +1010,7 @@ impl MeshRun3 {
             .collect::<Vec<_>>()
             .join(", ");
         format!(
-            "{{\n  \"points\": {},\n  \"tetrahedra\": {},\n  \"boundary_triangles\": {},\n  \"recovery\": {},\n  \"generation\": {generation},\n  \"restoration\": {restoration},\n  \"flat_removed\": {},\n  \"flat_split\": {},\n  \"duplicate_walls\": {},\n  \"quality_before_smoothing\": {},\n  \"quality\": {},\n  \"seconds\": {{{timings}}}\n}}\n",
+            "{{\n  \"points\": {},\n  \"tetrahedra\": {},\n  \"boundary_triangles\": {},\n  \"recovery\": {},\n  \"generation\": {generation},\n  \"restoration\": {restoration},\n  \"flat_removed\": {},\n  \"flat_split\": {},\n  \"duplicate_walls\": {},\n  \"sliver_flips\": {sliver_flips},\n  \"quality_before_smoothing\": {},\n  \"quality\": {},\n  \"seconds\": {{{timings}}}\n}}\n",
             self.arrays.coords.len(),
             self.arrays.tets.len(),
             self.arrays.faces.len(),

@@ -899,3 +899,54 @@ fn regional_volume_limits_bound_every_tetrahedron() {
         .to_string();
     assert!(err.contains("region 1") && err.contains("2^30"), "{err}");
 }
+
+#[test]
+fn sliver_flips_raise_the_worst_angle_and_keep_the_domain() {
+    // Sphere in a box and the cube with a hole, with the Delaunay restoration and without
+    // (smoothed coordinates moved in first): every check but the Delaunay property, the same
+    // boundary triangles, no element below the worst one before, fewer below the angle.
+    for (plc, chi) in [
+        (geometry3::sphere_in_box(3), 2),
+        (geometry3::cube_with_cubic_hole(4), 2),
+    ] {
+        for delaunay in [true, false] {
+            let base = MeshOptions3 {
+                delaunay,
+                ..options(1.0)
+            };
+            let plain = mesh_plc3(&plc, &base).unwrap();
+            let run = mesh_plc3(
+                &plc,
+                &MeshOptions3 {
+                    sliver_flips: Some(15.0),
+                    ..base
+                },
+            )
+            .unwrap();
+            check(&plc, &run, chi, false);
+            let f = run.sliver_flips.unwrap();
+            assert!(f.edge_flips + f.face_flips > 0, "{f:?}");
+            assert!(f.below_after < f.below_before, "{f:?}");
+            assert!(run.quality.min_dihedral > plain.quality.min_dihedral);
+            assert!(run.quality.slivers < plain.quality.slivers.max(1));
+            let faces = |r: &MeshRun3| {
+                let mut v: Vec<[u32; 3]> = r
+                    .arrays
+                    .faces
+                    .iter()
+                    .map(|t| {
+                        let mut t = t.map(|u| {
+                            let p = r.arrays.coords[u as usize];
+                            plain.arrays.coords.iter().position(|q| *q == p).unwrap() as u32
+                        });
+                        t.sort_unstable();
+                        t
+                    })
+                    .collect();
+                v.sort_unstable();
+                v
+            };
+            assert_eq!(faces(&run), faces(&plain));
+        }
+    }
+}

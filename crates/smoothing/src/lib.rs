@@ -28,5 +28,6 @@ pub use laplace::{
 pub use laplace3::{DihedralGuard, Smoother3, DEFAULT_DIHEDRAL_FLOOR};
 pub use quality::QualityReport;
 pub use quality3::{
-    dihedral_range, QualityReport3, DIHEDRAL_BIN_EDGES, REGULAR_DIHEDRAL, SLIVER_ANGLE,
+    dihedral_range, min_dihedral_cosine, QualityReport3, DIHEDRAL_BIN_EDGES, REGULAR_DIHEDRAL,
+    SLIVER_ANGLE,
 };

@@ -461,6 +461,12 @@ pub fn dihedral_range(p: &[[f64; 3]; 4]) -> (f64, f64) {
     crate::tet::dihedral_extremes(p)
 }
 
+/// The cosine of the smallest dihedral angle of the tetrahedron `p` (1 for a degenerate
+/// face): cheaper than [`dihedral_range`] where only comparisons are needed.
+pub fn min_dihedral_cosine(p: &[[f64; 3]; 4]) -> f64 {
+    crate::tet::min_dihedral_cos(p)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
