@@ -468,6 +468,19 @@ impl ConstrainedTriangulation3 {
         let Some(first) = found else {
             return false;
         };
+        self.edge_ring_at(first, p, q, ring)
+    }
+
+    /// [`Self::edge_ring`], starting at `first`, a cell that has the edge `p q` (no search).
+    pub(crate) fn edge_ring_at(
+        &self,
+        first: CellId,
+        p: VertexId,
+        q: VertexId,
+        ring: &mut Vec<(CellId, VertexId, VertexId)>,
+    ) -> bool {
+        ring.clear();
+        let tri = &self.tri;
         let mut c = first;
         let v = tri.simplices[c.index()].v;
         let mut others = v.iter().copied().filter(|&u| u != p && u != q);
