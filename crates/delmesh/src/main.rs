@@ -580,12 +580,16 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
     }
     if args.validate {
         // A constrained recovery is not Delaunay next to the edges and faces it flipped in.
-        // Nor are sliver flips.
+        // Nor are sliver flips, nor an incomplete restoration.
         let flipped = (run.recovery.method == RecoveryMethod3::Constrained
             && !run.recovery.constrained_fallback)
             || run
                 .sliver_flips
-                .is_some_and(|f| f.edge_flips + f.face_flips > 0);
+                .is_some_and(|f| f.edge_flips + f.face_flips > 0)
+            || matches!(
+                run.restoration,
+                Some(mesh3d::Restoration3::Incomplete { .. })
+            );
         let check = if !flipped && (run.restoration.is_some() || options.generation.is_none()) {
             run.mesh.ct.validate()
         } else {

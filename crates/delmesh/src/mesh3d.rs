@@ -388,8 +388,9 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
         let budget = settings
             .max_points
             .saturating_sub(report.points_added() + refined + *n);
-        let delaunay = recovery_history.method != RecoveryMethod3::Constrained
-            || recovery_history.constrained_fallback;
+        let delaunay = (recovery_history.method != RecoveryMethod3::Constrained
+            || recovery_history.constrained_fallback)
+            && !matches!(restoration, Some(Restoration3::Incomplete { .. }));
         *n += limits.run(&mut mesh, budget, delaunay);
     }
     let volume_limit_exceeded = limits.as_ref().map_or(0, |l| l.exceeding(&mesh));
@@ -474,6 +475,20 @@ pub enum Restoration3 {
         /// The second recovery.
         history: RecoveryHistory3,
     },
+    /// The splits did not converge and triangulating the points again failed too (its
+    /// surface recovery did not finish, `reason`): the mesh is kept as the flips and splits
+    /// left it, valid with every boundary face in place, but the faces `flips.left` still fail
+    /// the insphere test (beyond the paper: the mesh is not Delaunay there).
+    Incomplete {
+        /// The flips, with the faces left failing.
+        flips: Flips3,
+        /// Edges split at their mid-points.
+        split_edges: usize,
+        /// Of `split_edges`, the boundary edges.
+        surface_points: usize,
+        /// Why triangulating again failed.
+        reason: String,
+    },
 }
 
 /// After a constrained recovery, moves the smoothed points (`arrays.coords`) in `mesh` and
@@ -535,6 +550,7 @@ pub fn restore_after_smoothing(
     let all = |_tag: u32| true;
     // Smoothing keeps every element positive (exactly), so the move is accepted; if it were
     // not, the flips could not start and the mesh is rebuilt.
+    let mut kept = None;
     if mesh.ct.move_vertices(&moves).is_ok() {
         let mut flips = mesh.ct.make_delaunay(all);
         let mut total = Flips3 {
@@ -565,6 +581,8 @@ pub fn restore_after_smoothing(
                 stale += 1;
             }
             if round == MAX_SPLIT_ROUNDS || stale >= 4 || split_edges + flips.left.len() > budget {
+                total.left = flips.left.clone();
+                kept = Some((total.clone(), split_edges, surface_points));
                 break;
             }
             let mut next = flips.left.clone();
@@ -587,10 +605,23 @@ pub fn restore_after_smoothing(
             flips = mesh.ct.make_delaunay_from(next, all);
         }
     }
-    *mesh = restore_delaunay(arrays, plc, max_steiner_points)?;
-    Ok(Restoration3::Retriangulated {
-        history: mesh.history.clone(),
-    })
+    match (restore_delaunay(arrays, plc, max_steiner_points), kept) {
+        (Ok(restored), _) => {
+            *mesh = restored;
+            Ok(Restoration3::Retriangulated {
+                history: mesh.history.clone(),
+            })
+        }
+        // The flipped and split mesh is valid: better kept, with the faces left counted and
+        // a warning, than the user's run lost.
+        (Err(e), Some((flips, split_edges, surface_points))) => Ok(Restoration3::Incomplete {
+            flips,
+            split_edges,
+            surface_points,
+            reason: e.to_string(),
+        }),
+        (Err(e), None) => Err(e),
+    }
 }
 
 /// The Delaunay tetrahedralisation of the points of `arrays`, conforming to its boundary
@@ -718,6 +749,22 @@ impl MeshRun3 {
                         f.left.len()
                     )
                 }
+            )),
+            Some(Restoration3::Incomplete {
+                flips: f,
+                split_edges,
+                surface_points,
+                reason,
+            }) => s.push_str(&format!(
+                "delaunay restoration incomplete: {} faces failed; {} flips, {} edges split ({} \
+                 on the surface); triangulating again failed ({reason}), so the mesh is kept as \
+                 flipped: warning: {} faces still fail the insphere test (the mesh is valid, \
+                 not Delaunay there)\n",
+                f.failing,
+                f.flips(),
+                split_edges,
+                surface_points,
+                f.left.len()
             )),
             Some(Restoration3::Retriangulated { history }) => s.push_str(&format!(
                 "delaunay restoration: triangulated again, {} surface points added ({} on \
@@ -994,6 +1041,23 @@ impl MeshRun3 {
                 "{{\"method\": \"retriangulated\", \"recovery\": {}}}",
                 history(h)
             ),
+            Some(Restoration3::Incomplete {
+                flips: f,
+                split_edges,
+                surface_points,
+                reason,
+            }) => format!(
+                "{{\"method\": \"incomplete\", \"failing\": {}, \"two_three\": {}, \
+                 \"three_two\": {}, \"four_four\": {}, \"split_edges\": {split_edges}, \
+                 \"surface_points\": {surface_points}, \"left\": {}, \"reason\": {}, \
+                 \"recovery\": null}}",
+                f.failing,
+                f.two_three,
+                f.three_two,
+                f.four_four,
+                f.left.len(),
+                json_string(reason)
+            ),
             None => "null".to_string(),
         };
         let sliver_flips = match &self.sliver_flips {
@@ -1094,4 +1158,20 @@ fn min_dihedrals(a: &MeshArrays3) -> Vec<f64> {
         .map(|t| dihedral_range(&t.map(|v| a.coords[v as usize])).0)
         .map(|d| if d.is_finite() { d } else { 0.0 })
         .collect()
+}
+
+/// `text` as a JSON string literal.
+fn json_string(text: &str) -> String {
+    let mut out = String::with_capacity(text.len() + 2);
+    out.push('"');
+    for ch in text.chars() {
+        match ch {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if (c as u32) < 0x20 => out.push_str(&format!("\\u{:04x}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
 }

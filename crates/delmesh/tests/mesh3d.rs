@@ -950,3 +950,28 @@ fn sliver_flips_raise_the_worst_angle_and_keep_the_domain() {
         }
     }
 }
+
+#[test]
+fn a_restoration_that_cannot_triangulate_again_keeps_the_flipped_mesh() {
+    // A unit box with a 1 mm slot, a-priori recovery and field points: the restoration's
+    // splits do not converge next to the slot, and triangulating the points again cannot
+    // recover the surface (interior points crowd it). The run used to end in that error; the
+    // flipped and split mesh is valid and is kept, with the faces left failing counted.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/slot-1mm.obj");
+    let plc = delmesh::mesh3d::read_plc3(&path).unwrap();
+    let run = mesh_plc3(
+        &plc,
+        &MeshOptions3 {
+            recovery: RecoveryMethod3::APriori,
+            ..MeshOptions3::default()
+        },
+    )
+    .unwrap();
+    match &run.restoration {
+        Some(Restoration3::Incomplete { flips, .. }) => assert!(!flips.left.is_empty()),
+        other => panic!("restoration {other:?}"),
+    }
+    assert!(run.summary().contains("warning"));
+    // A slot cut into one side: a ball.
+    check(&plc, &run, 1, false);
+}
