@@ -48,7 +48,8 @@ pub use recovery::{
     BoundaryEdge, BoundaryRecovery, Mesh2, RecoveryHistory, RecoveryMethod, RecoveryPass,
 };
 pub use recovery3::{
-    BoundaryFace, BoundaryRecovery3, Mesh3, RecoveryHistory3, RecoveryMethod3, RecoveryStep,
+    costly_bound, BoundaryFace, BoundaryRecovery3, Mesh3, RecoveryHistory3, RecoveryMethod3,
+    RecoveryStep,
 };
 pub use surface::{
     check_surface, CheckedSurface, EdgeName, Junction, Listed, PointLocation, PointOnTriangle,

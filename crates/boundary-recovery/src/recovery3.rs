@@ -169,6 +169,11 @@ pub struct RecoveryHistory3 {
     /// The constrained recovery did not finish (see [`RecoveryMethod3::Constrained`]), and
     /// the conforming one ran instead (its passes and points are the ones reported).
     pub constrained_fallback: bool,
+    /// Recovery of the facets as given was stopped after this many points (too many, or a
+    /// constrained recovery's flips stalled), and coplanar neighbours with one marker were
+    /// merged instead ([`BoundaryRecovery3::coplanar_fallback`]; the passes and points
+    /// reported are those of the merged surface).
+    pub coplanar_merged_after: Option<usize>,
     /// Tetrahedra outside the domain (and in holes) after classification.
     pub tetrahedra_outside: usize,
     /// Tetrahedra inside the domain after classification.
@@ -221,6 +226,12 @@ impl fmt::Display for RecoveryHistory3 {
             row(f, "  faces left to checking:", self.a_priori_rejected)?;
         }
         row(f, "No. of tetrahedra obtained:", self.initial_tetrahedra)?;
+        if let Some(n) = self.coplanar_merged_after {
+            writeln!(
+                f,
+                "Recovery of the facets as given stopped after {n} points: coplanar facets with one marker were merged"
+            )?;
+        }
         if self.method == RecoveryMethod3::Constrained {
             if self.constrained_fallback {
                 writeln!(
@@ -369,6 +380,8 @@ pub struct BoundaryRecovery3 {
     trusted: bool,
     /// Re-triangulate coplanar neighbours of different input facets together.
     merge_coplanar: bool,
+    /// Merge coplanar facets when the facets as given cost too many points.
+    coplanar_fallback: bool,
 }
 
 impl Default for BoundaryRecovery3 {
@@ -453,6 +466,7 @@ impl BoundaryRecovery3 {
             sides: Vec::new(),
             trusted: false,
             merge_coplanar: false,
+            coplanar_fallback: true,
         }
     }
 
@@ -463,6 +477,20 @@ impl BoundaryRecovery3 {
     /// triangles of one (polygon) facet are re-triangulated. See the `planar` module.
     pub fn merge_coplanar(mut self, merge: bool) -> Self {
         self.merge_coplanar = merge;
+        self
+    }
+
+    /// Whether recovery may merge coplanar facets after all (as [`Self::merge_coplanar`]) when
+    /// the facets as given would cost more than [`costly_bound`] points (on by default).
+    ///
+    /// A CAD surface whose planar faces are fans of long thin triangles needs a great many
+    /// points to make every thin triangle a union of Delaunay faces: a 240-sided cylinder with
+    /// fans for caps took 74,497, and a 360-sided one more than the 100,000-point bound, while
+    /// its merged caps and sides need none (TetGen merges coplanar facets by default for this
+    /// reason). Off, recovery keeps every input triangle (the paper's method as it is) and
+    /// stops with an error at the bound.
+    pub fn coplanar_fallback(mut self, on: bool) -> Self {
+        self.coplanar_fallback = on;
         self
     }
 
@@ -591,22 +619,37 @@ impl BoundaryRecovery3 {
         } else {
             Patches::WithinFacets
         };
-        let flipped = flip_planar_diagonals(&plc.points, &plc.triangles, &tri, patches);
+        let planar = |patches| flip_planar_diagonals(&plc.points, &plc.triangles, &tri, patches);
+        let flipped = planar(patches);
         let planar_flips = flipped.as_ref().map_or(0, |f| f.1);
+        // The surface with coplanar facets merged, when that differs from the surface as
+        // given: what recovery falls back on if the facets as given cost too many points.
+        let merged = if self.coplanar_fallback && !self.merge_coplanar {
+            planar(Patches::AcrossFacets)
+                .filter(|(m, _)| m != flipped.as_ref().map_or(&plc.triangles, |(t, _)| t))
+        } else {
+            None
+        };
+        let with_triangles = |triangles| Plc3 {
+            triangles,
+            ..plc.clone()
+        };
         let retriangulated;
         let plc = match flipped {
             Some((triangles, _)) => {
-                retriangulated = Plc3 {
-                    triangles,
-                    ..plc.clone()
-                };
+                retriangulated = with_triangles(triangles);
                 &retriangulated
             }
             None => plc,
         };
+        let merged = merged.map(|(triangles, flips)| (with_triangles(triangles), flips));
         let constrained = self.method == RecoveryMethod3::Constrained;
-        let fallback = constrained.then(|| tri.clone());
-        let mut state = State::new(tri, plc, self.max_steiner, constrained)?;
+        let spare = merged.as_ref().map(|_| tri.clone());
+        // A constrained recovery that does not finish is followed by the conforming one; with
+        // a merged surface to fall back on, by the constrained recovery of that instead (flips
+        // make no Delaunay promise a merge would break, and they are much faster).
+        let fallback = (constrained && merged.is_none()).then(|| tri.clone());
+        let state = State::new(tri, plc, self.max_steiner, constrained)?;
         // Vertices by where their point came from (duplicates merged).
         let n_extra = extra.len();
         let from = |lo: usize, hi: usize| {
@@ -643,25 +686,45 @@ impl BoundaryRecovery3 {
             planar_flips,
             ..Default::default()
         };
-        let initial = constrained.then(|| history.clone());
-        let attempt = state
-            .recover(&mut history)
-            .and_then(|()| state.break_flat_tetrahedra(sides, &mut history));
-        match (attempt, fallback.zip(initial)) {
-            (Ok(()), _) => {}
-            (Err(_), Some((tri, initial))) => {
-                // The constrained attempt did not finish: the conforming recovery, from the
-                // same Delaunay tetrahedralisation, whose splitting terminates.
-                state = State::new(tri, plc, self.max_steiner, false)?;
+        // With a merged surface to fall back on, the facets as given get a smaller budget.
+        let cap = match merged {
+            Some(_) => costly_bound(history.surface_points),
+            None => usize::MAX,
+        };
+        let initial = history.clone();
+        let outcome = state.recover_all(fallback, self.max_steiner, cap, sides, &mut history);
+        let (mut state, plc) = match (outcome, &merged, spare) {
+            (Ok(state), _, _) => (state, plc),
+            (
+                Err(RecoveryError::SurfaceNotRecovered { added, .. }),
+                Some((merged, flips)),
+                Some(tri),
+            ) => {
+                // The facets as given cost too many points (or the flips stalled on them):
+                // coplanar neighbours with one marker are merged, as TetGen does by default,
+                // and recovery starts again from the same tetrahedralisation.
                 history = RecoveryHistory3 {
-                    constrained_fallback: true,
+                    planar_flips: *flips,
+                    coplanar_merged_after: Some(added),
+                    surface_edges: 0,
                     ..initial
                 };
-                state.recover(&mut history)?;
-                state.break_flat_tetrahedra(sides, &mut history)?;
+                let fallback = constrained.then(|| tri.clone());
+                let state = State::new(tri, merged, self.max_steiner, constrained)?;
+                history.surface_edges = state.segs.len();
+                (
+                    state.recover_all(
+                        fallback,
+                        self.max_steiner,
+                        usize::MAX,
+                        sides,
+                        &mut history,
+                    )?,
+                    merged,
+                )
             }
-            (Err(e), None) => return Err(e),
-        }
+            (Err(e), _, _) => return Err(e),
+        };
         history.final_surface_edges = state.segs.iter().map(|s| s.pts.len() - 1).sum();
 
         // Protect the recovered faces, then classify.
@@ -708,6 +771,14 @@ impl BoundaryRecovery3 {
             history,
         })
     }
+}
+
+/// How many points the facets as given may cost, for `surface_points` distinct surface points,
+/// before recovery merges coplanar facets instead ([`BoundaryRecovery3::coplanar_fallback`]):
+/// 20 per surface point, at least 5,000. Every surface of `cargo xtask surfaces` needs under 12
+/// per point (cheese, the most), so none of them is merged.
+pub fn costly_bound(surface_points: usize) -> usize {
+    (20 * surface_points).max(5_000)
 }
 
 /// The shortest sub-segment, as a fraction of its segment, that the constrained recovery
@@ -881,6 +952,40 @@ fn lerp(a: [f64; 3], b: [f64; 3], t: f64) -> [f64; 3] {
 }
 
 impl<'a> State<'a> {
+    /// Recovers every edge and face, then breaks the flat tetrahedra on the surface. A
+    /// constrained recovery that does not finish is followed by the conforming one from
+    /// `fallback` (the same first tetrahedralisation), with `history` as it was at the start.
+    /// Neither adds more than `cap` points.
+    fn recover_all(
+        mut self,
+        fallback: Option<Triangulation3>,
+        max_steiner: Option<usize>,
+        cap: usize,
+        sides: &[f64],
+        history: &mut RecoveryHistory3,
+    ) -> Result<Self, RecoveryError> {
+        self.budget = self.budget.min(cap);
+        let initial = fallback.is_some().then(|| history.clone());
+        let attempt = self
+            .recover(history)
+            .and_then(|()| self.break_flat_tetrahedra(sides, history));
+        match (attempt, fallback.zip(initial)) {
+            (Ok(()), _) => Ok(self),
+            (Err(_), Some((tri, initial))) => {
+                let mut state = State::new(tri, self.plc, max_steiner, false)?;
+                state.budget = state.budget.min(cap);
+                *history = RecoveryHistory3 {
+                    constrained_fallback: true,
+                    ..initial
+                };
+                state.recover(history)?;
+                state.break_flat_tetrahedra(sides, history)?;
+                Ok(state)
+            }
+            (Err(e), None) => Err(e),
+        }
+    }
+
     fn new(
         tri: Triangulation3,
         plc: &'a Plc3,

@@ -447,12 +447,21 @@ fn budget_exhaustion_is_an_error_naming_facets() {
         .map(|_| [0, 1, 2].map(|_| rng.gen_range(0.01..2.99)))
         .collect();
     let err = BoundaryRecovery3::default()
-        .with_points(field)
+        .coplanar_fallback(false)
+        .with_points(field.clone())
         .max_steiner_points(3)
         .run(&plc)
         .unwrap_err();
     let msg = err.to_string();
     assert!(msg.contains("facets that resisted"), "{msg}");
+    // By default the faces of the box are merged after the 3 points, and need no more.
+    let merged = BoundaryRecovery3::default()
+        .with_points(field)
+        .max_steiner_points(3)
+        .run(&plc)
+        .unwrap();
+    assert_eq!(merged.history.coplanar_merged_after, Some(3));
+    check_with(&plc, &merged, 27.0, Coverage::Planes);
 }
 
 proptest! {
@@ -680,12 +689,15 @@ fn a_trusted_surface_naming_a_missing_point_is_an_error() {
 /// The conforming and the constrained recovery of `plc`, both checked; the constrained one
 /// adds no more points (when it fell back on the conforming one, exactly as many).
 fn both_recoveries(plc: &Plc3, volume: f64, field: &[[f64; 3]]) -> (Mesh3, Mesh3) {
+    // Every input triangle kept (no merging of coplanar facets, however many points).
     let conforming = BoundaryRecovery3::default()
+        .coplanar_fallback(false)
         .with_points(field.to_vec())
         .run(plc)
         .unwrap();
     check(plc, &conforming, volume);
     let constrained = BoundaryRecovery3::new(RecoveryMethod3::Constrained)
+        .coplanar_fallback(false)
         .with_points(field.to_vec())
         .run(plc)
         .unwrap();

@@ -149,6 +149,13 @@ struct MeshArgs {
     /// boundary faces. Without it only the triangles of one polygon facet are re-triangulated.
     #[arg(long)]
     merge_coplanar: bool,
+    /// 3D: keep every input triangle even where that costs more than 20 points per surface
+    /// point (at least 5,000): recovery then never merges coplanar facets, and stops with an
+    /// error at `--max-steiner`'s bound. By default such a surface (a CAD part whose flat
+    /// faces are fans of long thin triangles) is recovered again with coplanar facets merged,
+    /// as `--merge-coplanar`, and the summary says so.
+    #[arg(long, conflicts_with = "merge_coplanar")]
+    keep_facets: bool,
     /// Write the run's report (passes, quality, time per stage) as JSON.
     #[arg(long, value_name = "FILE.json")]
     report: Option<PathBuf>,
@@ -509,6 +516,7 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
         },
         max_steiner_points: args.max_steiner,
         merge_coplanar: args.merge_coplanar,
+        coplanar_fallback: !args.keep_facets,
         delaunay: !args.no_flips,
         sliver_flips: args.sliver_flips,
         refinement: (!args.no_refinement).then(QualityRefinement3::default),

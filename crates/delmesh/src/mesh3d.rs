@@ -82,6 +82,10 @@ pub struct MeshOptions3 {
     /// facets (same marker) together, as TetGen merges coplanar facets by default
     /// ([`BoundaryRecovery3::merge_coplanar`]).
     pub merge_coplanar: bool,
+    /// Merge coplanar facets after all where the facets as given would cost too many points
+    /// ([`BoundaryRecovery3::coplanar_fallback`], default on); off, every input triangle is
+    /// kept and recovery stops with an error at the bound.
+    pub coplanar_fallback: bool,
     /// Radius–edge refinement after point generation (`None`: none; needs generation).
     pub refinement: Option<QualityRefinement3>,
     /// Laplacian smoothing of the field points (`None`: no smoothing).
@@ -107,6 +111,7 @@ impl Default for MeshOptions3 {
             sources: Vec::new(),
             max_steiner_points: None,
             merge_coplanar: false,
+            coplanar_fallback: true,
             refinement: Some(QualityRefinement3::default()),
             smoothing: Some(Smoother3::new().iterations(SMOOTHING_PASSES)),
             delaunay: true,
@@ -266,7 +271,8 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
     let mut volume_limited = limits.as_ref().map(|_| 0);
     let mut recovery = BoundaryRecovery3::new(options.recovery)
         .with_points(options.extra_points.clone())
-        .merge_coplanar(options.merge_coplanar);
+        .merge_coplanar(options.merge_coplanar)
+        .coplanar_fallback(options.coplanar_fallback);
     if let Some(n) = options.max_steiner_points {
         recovery = recovery.max_steiner_points(n);
     }
@@ -989,7 +995,7 @@ impl MeshRun3 {
                     .collect(),
             );
             format!(
-                "{{\"surface_points\": {}, \"field_points\": {}, \"duplicates_merged\": {}, \"surface_faces\": {}, \"planar_flips\": {}, \"surface_edges\": {}, \"initial_tetrahedra\": {}, \"steps\": {steps}, \"edge_points\": {}, \"face_points\": {}, \"final_surface_edges\": {}, \"final_surface_faces\": {}, \"flips\": {}, \"flipped_in\": {}, \"constrained_fallback\": {}, \"tetrahedra_outside\": {}, \"tetrahedra_inside\": {}}}",
+                "{{\"surface_points\": {}, \"field_points\": {}, \"duplicates_merged\": {}, \"surface_faces\": {}, \"planar_flips\": {}, \"surface_edges\": {}, \"initial_tetrahedra\": {}, \"steps\": {steps}, \"edge_points\": {}, \"face_points\": {}, \"final_surface_edges\": {}, \"final_surface_faces\": {}, \"flips\": {}, \"flipped_in\": {}, \"constrained_fallback\": {}, \"coplanar_merged_after\": {}, \"tetrahedra_outside\": {}, \"tetrahedra_inside\": {}}}",
                 h.surface_points,
                 h.field_points,
                 h.merged_points.len(),
@@ -1004,6 +1010,8 @@ impl MeshRun3 {
                 h.flips,
                 h.flipped_in,
                 h.constrained_fallback,
+                h.coplanar_merged_after
+                    .map_or_else(|| "null".to_string(), |n| n.to_string()),
                 h.tetrahedra_outside,
                 h.tetrahedra_inside
             )

@@ -611,15 +611,12 @@ fn spiky_star(seed: u64, n: usize, r_min: f64) -> Plc3 {
     plc
 }
 
-#[test]
-fn a_cad_cylinder_of_needle_elements_keeps_its_volume() {
-    // 200 sides, height 50, each cap a fan of long thin triangles from one corner (as CAD
-    // exporters write them): 98 needle elements (a corner 0.11 off a facet 50 long) passed
-    // the old flatness test (volume against the longest edge cubed) and were taken off the
-    // domain as lying flat on the surface; 4e-5 of the volume was lost.
-    let n = 200u32;
+/// A CAD cylinder of `n` sides and height `h` around the z axis, radius 1: each side a
+/// quadrilateral of two triangles, each cap a fan of long thin triangles from one corner (as
+/// CAD exporters write them), every triangle its own facet, all with marker 1.
+fn cad_cylinder(n: u32, h: f64) -> Plc3 {
     let mut plc = Plc3::default();
-    for z in [0.0, 50.0] {
+    for z in [0.0, h] {
         for k in 0..n {
             let t = std::f64::consts::TAU * f64::from(k) / f64::from(n);
             plc.points.push([t.cos(), t.sin(), z]);
@@ -642,8 +639,78 @@ fn a_cad_cylinder_of_needle_elements_keeps_its_volume() {
             facet: facet as u32,
         });
     }
-    let run = mesh_with(&plc, RecoveryMethod3::Conforming, MeshOptions3::default());
+    plc
+}
+
+#[test]
+fn a_cad_cylinder_of_needle_elements_keeps_its_volume() {
+    // 200 sides, height 50: 98 needle elements (a corner 0.11 off a facet 50 long) passed the
+    // old flatness test (volume against the longest edge cubed) and were taken off the domain
+    // as lying flat on the surface; 4e-5 of the volume was lost. Every input triangle is kept.
+    let plc = cad_cylinder(200, 50.0);
+    let keep = MeshOptions3 {
+        coplanar_fallback: false,
+        ..MeshOptions3::default()
+    };
+    let run = mesh_with(&plc, RecoveryMethod3::Conforming, keep);
+    assert_eq!(run.recovery.coplanar_merged_after, None);
     check(&plc, &run, 1, true);
+}
+
+#[test]
+fn a_cad_cylinder_too_costly_as_given_is_recovered_with_its_flat_faces_merged() {
+    // 300 sides, height 50: making every thin triangle a union of Delaunay faces takes tens of
+    // thousands of points (a 360-sided one stopped with an error at the 100,000-point bound).
+    // Its caps and side quadrilaterals are planar: merged, they need no point at all.
+    let n = 300;
+    let plc = cad_cylinder(n, 50.0);
+    let keep = MeshOptions3 {
+        coplanar_fallback: false,
+        max_steiner_points: Some(20_000),
+        generation: None,
+        ..MeshOptions3::default()
+    };
+    assert!(
+        mesh_plc3(&plc, &keep).is_err(),
+        "the bound is reached as given"
+    );
+    // Each planar patch (cap or side) is one facet of `patches`: the output must cover each.
+    let patch = |facet: u32| match facet {
+        f if f < 2 * n => f / 2,
+        f => n + (f - 2 * n) % 2,
+    };
+    let patches = Plc3 {
+        triangles: plc
+            .triangles
+            .iter()
+            .map(|t| SurfaceTriangle {
+                facet: patch(t.facet),
+                ..*t
+            })
+            .collect(),
+        ..plc.clone()
+    };
+    for recovery in RECOVERIES {
+        let mut run = mesh_with(&plc, recovery, MeshOptions3::default());
+        let merged_after = run.recovery.coplanar_merged_after;
+        // (The constrained recovery's flips stall on the fans' diagonals long before.)
+        let stopped = match recovery {
+            RecoveryMethod3::Constrained => merged_after.is_some(),
+            _ => merged_after.is_some_and(|k| k >= 12_000),
+        };
+        assert!(stopped, "{recovery:?}: {merged_after:?}");
+        assert!(run
+            .summary()
+            .contains("coplanar facets with one marker were merged"));
+        if recovery != RecoveryMethod3::APriori {
+            assert_eq!(run.recovery.points_added(), 0, "{recovery:?}");
+        }
+        for f in &mut run.arrays.face_facets {
+            *f = patch(*f);
+        }
+        let delaunay = recovery != RecoveryMethod3::Constrained;
+        check(&patches, &run, 1, delaunay);
+    }
 }
 
 /// Seeds of the spiky stars.
