@@ -24,6 +24,13 @@
 //! default: then any two coplanar triangles with the same marker may be re-triangulated. The
 //! covered surface, its markers and its points are unchanged, exactly.
 //!
+//! Recovery's fallback for surfaces too costly as given ([`Patches::NearlyCoplanar`])
+//! also merges neighbours that are only *nearly* coplanar ([`nearly_flat`]: thinner than
+//! `2^-40` of their coordinates), as rounding leaves the flat faces of a CAD part turned into
+//! a general position. The surface then moves by less than that thickness. Their Delaunay flips follow the
+//! circle test in the (nearly) common plane, which for nearly co-circular points need not
+//! agree with the tetrahedralisation; flips to its choice mend most of that, not always all.
+//!
 //! Termination: a Delaunay flip strictly lowers the lifted triangulation of the (planar) patch,
 //! and a flip to the tetrahedralisation's choice turns a missing edge into a present one while
 //! the tetrahedralisation stays as it is.
@@ -38,9 +45,42 @@ use std::collections::HashMap;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Patches {
     /// Only triangles of one input facet.
-    WithinFacets,
+    OneFacet,
     /// Any coplanar neighbours with the same marker.
-    AcrossFacets,
+    Coplanar,
+    /// Any neighbours with the same marker that are coplanar or nearly so ([`nearly_flat`]:
+    /// as rounding leaves the flat faces of a part turned into a general position): the
+    /// surface then moves by less than rounding.
+    NearlyCoplanar,
+}
+
+/// Whether the tetrahedron `a b c d` is flat to rounding: its thickness (the height over its
+/// largest face) is at most `2^-40` of its largest coordinate, about what rounding a point
+/// turned into a general position in double precision leaves; exactly coplanar points always
+/// pass. The tolerance of [`Patches::NearlyCoplanar`]: merging moves the surface by less
+/// than that thickness (single precision's rounding, as in binary STL, is far coarser and
+/// does not pass).
+pub(crate) fn nearly_flat(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> bool {
+    if orient3d(a, b, c, d) == Sign::Zero {
+        return true;
+    }
+    let (u, v, w) = (sub(b, a), sub(c, a), sub(d, a));
+    let six_volume = dot(cross(u, v), w).abs();
+    let norm = |n: [f64; 3]| dot(n, n).sqrt();
+    let largest_face = [
+        cross(u, v),
+        cross(u, w),
+        cross(v, w),
+        cross(sub(c, b), sub(d, b)),
+    ]
+    .map(norm)
+    .into_iter()
+    .fold(0.0, f64::max);
+    let scale = [a, b, c, d]
+        .iter()
+        .flatten()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    six_volume <= 2f64.powi(-40) * scale * largest_face
 }
 
 /// The surface's triangles with its planar diagonals flipped (see the module docs), and the
@@ -53,7 +93,7 @@ pub(crate) fn flip_planar_diagonals(
     tri: &Triangulation3,
     patches: Patches,
 ) -> Option<(Vec<SurfaceTriangle>, usize)> {
-    if patches == Patches::WithinFacets {
+    if patches == Patches::OneFacet {
         // Nothing to do unless some facet has several triangles (a triangle soup has none).
         let mut facets: Vec<u32> = triangles.iter().map(|t| t.facet).collect();
         facets.sort_unstable();
@@ -88,6 +128,10 @@ pub(crate) fn flip_planar_diagonals(
         }
     }
     let corners = box_corners(points);
+    let coplanar = |a, b, c, d| match patches {
+        Patches::NearlyCoplanar => nearly_flat(a, b, c, d),
+        _ => orient3d(a, b, c, d) == Sign::Zero,
+    };
     let mut flips = 0;
     let mut stars = StarSearch::default();
     let mut star = Vec::new();
@@ -104,8 +148,8 @@ pub(crate) fn flip_planar_diagonals(
                 && Quad::of(triangles, t1 as usize, t2 as usize, e, &vertex).is_some_and(|q| {
                     let (s1, s2) = (triangles[q.t1], triangles[q.t2]);
                     s1.marker == s2.marker
-                        && (patches == Patches::AcrossFacets || s1.facet == s2.facet)
-                        && orient3d(p(q.a), p(q.b), p(q.c), p(q.d)) == Sign::Zero
+                        && (patches != Patches::OneFacet || s1.facet == s2.facet)
+                        && coplanar(p(q.a), p(q.b), p(q.c), p(q.d))
                 })
         })
         .map(|(&e, _)| e)
@@ -128,12 +172,14 @@ pub(crate) fn flip_planar_diagonals(
                 continue;
             };
             let (s1, s2) = (triangles[q.t1], triangles[q.t2]);
-            if s1.marker != s2.marker || (patches == Patches::WithinFacets && s1.facet != s2.facet)
-            {
+            if s1.marker != s2.marker || (patches == Patches::OneFacet && s1.facet != s2.facet) {
                 continue;
             }
             let (pa, pb, pc, pd) = (p(q.a), p(q.b), p(q.c), p(q.d));
-            if edges.contains_key(&key(vertex(q.c), vertex(q.d))) || !flippable(pa, pb, pc, pd) {
+            if edges.contains_key(&key(vertex(q.c), vertex(q.d)))
+                || !coplanar(pa, pb, pc, pd)
+                || !flippable(pa, pb, pc, pd)
+            {
                 continue;
             }
             let flip = match stage {
@@ -217,12 +263,10 @@ impl Quad {
     }
 }
 
-/// Whether `a b c` and `b a d` lie in one plane, turn the same way in it, and `a c b d` is a
-/// strictly convex quadrilateral (so that `a d c`, `d b c` cover the same region). Exact.
+/// Whether `a b c` and `b a d`, in one plane (or nearly: the caller decides), turn the same
+/// way in it, and `a c b d` is a strictly convex quadrilateral (so that `a d c`, `d b c` cover
+/// the same region). Exact on the projection to the plane of two coordinate axes.
 fn flippable(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> bool {
-    if orient3d(a, b, c, d) != Sign::Zero {
-        return false;
-    }
     // Drop the coordinate along which the plane's normal is largest: the projection is then an
     // affine bijection of the plane, so orientations keep their signs (up to one common sign).
     let n = cross(sub(b, a), sub(c, a));

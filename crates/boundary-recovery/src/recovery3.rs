@@ -615,9 +615,9 @@ impl BoundaryRecovery3 {
         };
         // Planar patches re-triangulated by flips before recovery (see `planar`).
         let patches = if self.merge_coplanar {
-            Patches::AcrossFacets
+            Patches::Coplanar
         } else {
-            Patches::WithinFacets
+            Patches::OneFacet
         };
         let planar = |patches| flip_planar_diagonals(&plc.points, &plc.triangles, &tri, patches);
         let flipped = planar(patches);
@@ -625,7 +625,7 @@ impl BoundaryRecovery3 {
         // The surface with coplanar facets merged, when that differs from the surface as
         // given: what recovery falls back on if the facets as given cost too many points.
         let merged = if self.coplanar_fallback && !self.merge_coplanar {
-            planar(Patches::AcrossFacets)
+            planar(Patches::NearlyCoplanar)
                 .filter(|(m, _)| m != flipped.as_ref().map_or(&plc.triangles, |(t, _)| t))
         } else {
             None
@@ -702,26 +702,36 @@ impl BoundaryRecovery3 {
             ) => {
                 // The facets as given cost too many points (or the flips stalled on them):
                 // coplanar neighbours with one marker are merged, as TetGen does by default,
-                // and recovery starts again from the same tetrahedralisation.
+                // and recovery starts again from the same tetrahedralisation. Should that
+                // fail too, the facets as given get the whole budget after all.
+                let again = tri.clone();
                 history = RecoveryHistory3 {
                     planar_flips: *flips,
                     coplanar_merged_after: Some(added),
-                    surface_edges: 0,
-                    ..initial
+                    ..initial.clone()
                 };
                 let fallback = constrained.then(|| tri.clone());
                 let state = State::new(tri, merged, self.max_steiner, constrained)?;
                 history.surface_edges = state.segs.len();
-                (
-                    state.recover_all(
-                        fallback,
-                        self.max_steiner,
-                        usize::MAX,
-                        sides,
-                        &mut history,
-                    )?,
-                    merged,
-                )
+                let outcome =
+                    state.recover_all(fallback, self.max_steiner, usize::MAX, sides, &mut history);
+                match outcome {
+                    Ok(state) => (state, merged),
+                    Err(RecoveryError::SurfaceNotRecovered { .. }) => {
+                        history = initial;
+                        let fallback = constrained.then(|| again.clone());
+                        let state = State::new(again, plc, self.max_steiner, constrained)?;
+                        let state = state.recover_all(
+                            fallback,
+                            self.max_steiner,
+                            usize::MAX,
+                            sides,
+                            &mut history,
+                        )?;
+                        (state, plc)
+                    }
+                    Err(e) => return Err(e),
+                }
             }
             (Err(e), _, _) => return Err(e),
         };
