@@ -39,6 +39,12 @@
 //! shorter than double precision can split, recovery stops with an error naming the facets
 //! that resisted instead of looping.
 //!
+//! **Coplanar fallback** ([`BoundaryRecovery3::coplanar_fallback`], on by default): a surface
+//! whose triangles as given would cost more than [`costly_bound`] points, and that has
+//! coplanar (or, to rounding, nearly coplanar) neighbours with one marker, is recovered again
+//! from the same first tetrahedralisation with them merged, as TetGen merges coplanar facets
+//! by default. Should that fail too, the triangles as given get the whole bound after all.
+//!
 //! **Constrained recovery** ([`RecoveryMethod3::Constrained`], beyond the paper): each missing
 //! sub-segment, then each missing sub-face, is first made present by flips
 //! ([`ConstrainedTriangulation3::flip_in_edge`], [`ConstrainedTriangulation3::flip_in_face`];
