@@ -24,12 +24,13 @@
 //! default: then any two coplanar triangles with the same marker may be re-triangulated. The
 //! covered surface, its markers and its points are unchanged, exactly.
 //!
-//! Recovery's fallback for surfaces too costly as given ([`Patches::NearlyCoplanar`])
-//! also merges neighbours that are only *nearly* coplanar ([`nearly_flat`]: thinner than
-//! `2^-40` of their coordinates), as rounding leaves the flat faces of a CAD part turned into
-//! a general position. The surface then moves by less than that thickness. Their Delaunay flips follow the
-//! circle test in the (nearly) common plane, which for nearly co-circular points need not
-//! agree with the tetrahedralisation; flips to its choice mend most of that, not always all.
+//! Recovery's fallback for a surface too costly as given ([`Patches::NearlyCoplanar`]) also
+//! merges triangles that are only flat to rounding ([`nearly_flat`]: thinner than `2^-40` of
+//! their coordinates), as rounding leaves the flat faces of a CAD part turned into a general
+//! position: the surface then moves by less than that thickness. For nearly co-circular points
+//! the Delaunay flips, which follow the circle test in the (nearly) common plane, need not
+//! agree with the tetrahedralisation; the flips to its choice mend most of that, not always
+//! all.
 //!
 //! Termination: a Delaunay flip strictly lowers the lifted triangulation of the (planar) patch,
 //! and a flip to the tetrahedralisation's choice turns a missing edge into a present one while

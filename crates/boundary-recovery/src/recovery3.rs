@@ -175,9 +175,8 @@ pub struct RecoveryHistory3 {
     /// The constrained recovery did not finish (see [`RecoveryMethod3::Constrained`]), and
     /// the conforming one ran instead (its passes and points are the ones reported).
     pub constrained_fallback: bool,
-    /// Recovery of the facets as given was stopped after this many points (too many, or a
-    /// constrained recovery's flips stalled), and coplanar neighbours with one marker were
-    /// merged instead ([`BoundaryRecovery3::coplanar_fallback`]; the passes and points
+    /// Recovery of the facets as given was stopped after this many points (too many), and
+    /// coplanar neighbours with one marker were merged instead ([`BoundaryRecovery3::coplanar_fallback`]; the passes and points
     /// reported are those of the merged surface).
     pub coplanar_merged_after: Option<usize>,
     /// Tetrahedra outside the domain (and in holes) after classification.
@@ -480,14 +479,18 @@ impl BoundaryRecovery3 {
     /// (same marker, exactly in one plane) by flipping their shared diagonals, as TetGen merges
     /// coplanar facets by default: the covered surface, its markers and points are unchanged,
     /// but an input triangle is then not always a union of boundary faces. Without it, only the
-    /// triangles of one (polygon) facet are re-triangulated. See the `planar` module.
+    /// triangles of one (polygon) facet are re-triangulated. See the `planar` module. The
+    /// fallback of [`Self::coplanar_fallback`] still applies, with triangles flat to rounding
+    /// merged too.
     pub fn merge_coplanar(mut self, merge: bool) -> Self {
         self.merge_coplanar = merge;
         self
     }
 
-    /// Whether recovery may merge coplanar facets after all (as [`Self::merge_coplanar`]) when
-    /// the facets as given would cost more than [`costly_bound`] points (on by default).
+    /// Whether recovery may merge coplanar facets after all (as [`Self::merge_coplanar`], and
+    /// triangles flat to rounding too) when the facets as given would cost more than
+    /// [`costly_bound`] points (on by default; with [`Self::merge_coplanar`], when the exactly
+    /// coplanar facets merged would).
     ///
     /// A CAD surface whose planar faces are fans of long thin triangles needs a great many
     /// points to make every thin triangle a union of Delaunay faces: a 240-sided cylinder with
@@ -628,9 +631,10 @@ impl BoundaryRecovery3 {
         let planar = |patches| flip_planar_diagonals(&plc.points, &plc.triangles, &tri, patches);
         let flipped = planar(patches);
         let planar_flips = flipped.as_ref().map_or(0, |f| f.1);
-        // The surface with coplanar facets merged, when that differs from the surface as
-        // given: what recovery falls back on if the facets as given cost too many points.
-        let merged = if self.coplanar_fallback && !self.merge_coplanar {
+        // The surface with coplanar facets merged, and those flat to rounding, when that
+        // differs from the surface as given: what recovery falls back on if the facets as
+        // given cost too many points.
+        let merged = if self.coplanar_fallback {
             planar(Patches::NearlyCoplanar)
                 .filter(|(m, _)| m != flipped.as_ref().map_or(&plc.triangles, |(t, _)| t))
         } else {
@@ -651,10 +655,9 @@ impl BoundaryRecovery3 {
         let merged = merged.map(|(triangles, flips)| (with_triangles(triangles), flips));
         let constrained = self.method == RecoveryMethod3::Constrained;
         let spare = merged.as_ref().map(|_| tri.clone());
-        // A constrained recovery that does not finish is followed by the conforming one; with
-        // a merged surface to fall back on, by the constrained recovery of that instead (flips
-        // make no Delaunay promise a merge would break, and they are much faster).
-        let fallback = (constrained && merged.is_none()).then(|| tri.clone());
+        // A constrained recovery that does not finish is followed by the conforming one (both
+        // within the cap when there is a merged surface to fall back on).
+        let fallback = constrained.then(|| tri.clone());
         let state = State::new(tri, plc, self.max_steiner, constrained)?;
         // Vertices by where their point came from (duplicates merged).
         let n_extra = extra.len();
@@ -706,8 +709,7 @@ impl BoundaryRecovery3 {
                 Some((merged, flips)),
                 Some(tri),
             ) => {
-                // The facets as given cost too many points (or the flips stalled on them):
-                // coplanar neighbours with one marker are merged, as TetGen does by default,
+                // The facets as given cost too many points: coplanar neighbours with one marker are merged, as TetGen does by default,
                 // and recovery starts again from the same tetrahedralisation. Should that
                 // fail too, the facets as given get the whole budget after all.
                 let again = tri.clone();
