@@ -34,7 +34,9 @@
 //!
 //! Termination: a Delaunay flip strictly lowers the lifted triangulation of the (planar) patch,
 //! and a flip to the tetrahedralisation's choice turns a missing edge into a present one while
-//! the tetrahedralisation stays as it is.
+//! the tetrahedralisation stays as it is. Delaunay flips of nearly coplanar points have no such
+//! bound (their circle test depends on the point off the plane it uses): at most 16 per
+//! surface edge, plus 100,000, are made.
 
 use crate::plc3::SurfaceTriangle;
 use crate::recovery3::{cross, dot, sub};
@@ -160,6 +162,7 @@ pub(crate) fn flip_planar_diagonals(
     }
     maybe.sort_unstable();
     let mut triangles = triangles.to_vec();
+    let mut near_budget = 16 * edges.len() + 100_000;
     for stage in [Stage::Delaunay, Stage::Tetrahedralisation] {
         let mut queue = maybe.clone();
         while let Some(e) = queue.pop() {
@@ -184,7 +187,17 @@ pub(crate) fn flip_planar_diagonals(
                 continue;
             }
             let flip = match stage {
-                Stage::Delaunay => in_circle(pa, pb, pc, pd, &corners),
+                // The circle test of nearly coplanar points depends on the point off their
+                // plane it takes, so that no lifting bounds those flips: they stop after a
+                // budget (and the exact ones then end as above).
+                Stage::Delaunay => {
+                    let exact = orient3d(pa, pb, pc, pd) == Sign::Zero;
+                    let flip = (exact || near_budget > 0) && in_circle(pa, pb, pc, pd, &corners);
+                    if flip && !exact {
+                        near_budget -= 1;
+                    }
+                    flip
+                }
                 Stage::Tetrahedralisation => !in_tri(e.0, e.1) && in_tri(vertex(q.c), vertex(q.d)),
             };
             if !flip {

@@ -176,8 +176,9 @@ pub struct RecoveryHistory3 {
     /// the conforming one ran instead (its passes and points are the ones reported).
     pub constrained_fallback: bool,
     /// Recovery of the facets as given was stopped after this many points (too many), and
-    /// coplanar neighbours with one marker were merged instead ([`BoundaryRecovery3::coplanar_fallback`]; the passes and points
-    /// reported are those of the merged surface).
+    /// coplanar neighbours with one marker were merged instead
+    /// ([`BoundaryRecovery3::coplanar_fallback`]; the passes and points reported are those of
+    /// the merged surface).
     pub coplanar_merged_after: Option<usize>,
     /// Tetrahedra outside the domain (and in holes) after classification.
     pub tetrahedra_outside: usize,
@@ -709,9 +710,10 @@ impl BoundaryRecovery3 {
                 Some((merged, flips)),
                 Some(tri),
             ) => {
-                // The facets as given cost too many points: coplanar neighbours with one marker are merged, as TetGen does by default,
-                // and recovery starts again from the same tetrahedralisation. Should that
-                // fail too, the facets as given get the whole budget after all.
+                // The facets as given cost too many points: coplanar neighbours with one
+                // marker are merged, as TetGen does by default, and recovery starts again from
+                // the same tetrahedralisation. Should that fail too, the facets as given get
+                // the whole budget after all.
                 let again = tri.clone();
                 history = RecoveryHistory3 {
                     planar_flips: *flips,
