@@ -147,13 +147,16 @@ struct MeshArgs {
     /// together (flipping their shared diagonals), as TetGen merges coplanar facets by default:
     /// fewer points on flat surfaces, but an input triangle is then not always a union of
     /// boundary faces. Without it only the triangles of one polygon facet are re-triangulated.
+    /// Where even the merged surface would cost more than 20 points per surface point,
+    /// triangles flat to rounding are merged too.
     #[arg(long)]
     merge_coplanar: bool,
     /// 3D: keep every input triangle even where that costs more than 20 points per surface
     /// point (at least 5,000): recovery then never merges coplanar facets, and stops with an
     /// error at `--max-steiner`'s bound. By default such a surface (a CAD part whose flat
     /// faces are fans of long thin triangles) is recovered again with coplanar facets merged,
-    /// as `--merge-coplanar`, and the summary says so.
+    /// as `--merge-coplanar` does, and triangles flat to rounding too (thinner than 2^-40 of
+    /// their coordinates); the summary says so.
     #[arg(long, conflicts_with = "merge_coplanar")]
     keep_facets: bool,
     /// Write the run's report (passes, quality, time per stage) as JSON.
