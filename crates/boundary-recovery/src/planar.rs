@@ -27,7 +27,8 @@
 //! Recovery's fallback for a surface too costly as given ([`Patches::NearlyCoplanar`]) also
 //! merges triangles that are only flat to rounding ([`nearly_flat`]: thinner than `2^-40` of
 //! their coordinates), as rounding leaves the flat faces of a CAD part turned into a general
-//! position: the surface then moves by less than that thickness. For nearly co-circular points
+//! position: the surface then moves by less than that thickness. Only where nothing else
+//! recovers a single-precision surface (binary STL) is the tolerance `2^-20`. For nearly co-circular points
 //! the Delaunay flips, which follow the circle test in the (nearly) common plane, need not
 //! agree with the tetrahedralisation; the flips to its choice mend most of that, not always
 //! all.
@@ -51,19 +52,43 @@ pub(crate) enum Patches {
     OneFacet,
     /// Any coplanar neighbours with the same marker.
     Coplanar,
-    /// Any neighbours with the same marker that are coplanar or nearly so ([`nearly_flat`]:
-    /// as rounding leaves the flat faces of a part turned into a general position): the
-    /// surface then moves by less than rounding.
-    NearlyCoplanar,
+    /// Any neighbours with the same marker that are coplanar or nearly so ([`nearly_flat`]
+    /// with this tolerance): the surface then moves by less than the tolerance.
+    NearlyCoplanar(Flatness),
+}
+
+/// How flat nearly coplanar triangles must be to be merged ([`nearly_flat`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Flatness {
+    /// Thinner than `2^-40` of their coordinates: what rounding a point turned into a general
+    /// position in double precision leaves.
+    Double,
+    /// Thinner than `2^-20` of their coordinates: what single precision (binary STL) leaves;
+    /// only for inputs whose every coordinate is a single-precision number.
+    Single,
+}
+
+impl Flatness {
+    /// The tolerance, relative to the coordinates.
+    fn relative(self) -> f64 {
+        match self {
+            Flatness::Double => 2f64.powi(-40),
+            Flatness::Single => 2f64.powi(-20),
+        }
+    }
 }
 
 /// Whether the tetrahedron `a b c d` is flat to rounding: its thickness (the height over its
-/// largest face) is at most `2^-40` of its largest coordinate, about what rounding a point
-/// turned into a general position in double precision leaves; exactly coplanar points always
-/// pass. The tolerance of [`Patches::NearlyCoplanar`]: merging moves the surface by less
-/// than that thickness (single precision's rounding, as in binary STL, is far coarser and
-/// does not pass).
-pub(crate) fn nearly_flat(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> bool {
+/// largest face) is at most `flatness` of its largest coordinate (see [`Flatness`]); exactly
+/// coplanar points always pass. Merging such triangles moves the surface by less than that
+/// thickness.
+pub(crate) fn nearly_flat(
+    a: [f64; 3],
+    b: [f64; 3],
+    c: [f64; 3],
+    d: [f64; 3],
+    flatness: Flatness,
+) -> bool {
     if orient3d(a, b, c, d) == Sign::Zero {
         return true;
     }
@@ -83,7 +108,7 @@ pub(crate) fn nearly_flat(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) ->
         .iter()
         .flatten()
         .fold(0.0f64, |m, x| m.max(x.abs()));
-    six_volume <= 2f64.powi(-40) * scale * largest_face
+    six_volume <= flatness.relative() * scale * largest_face
 }
 
 /// The surface's triangles with its planar diagonals flipped (see the module docs), and the
@@ -132,7 +157,7 @@ pub(crate) fn flip_planar_diagonals(
     }
     let corners = box_corners(points);
     let coplanar = |a, b, c, d| match patches {
-        Patches::NearlyCoplanar => nearly_flat(a, b, c, d),
+        Patches::NearlyCoplanar(flatness) => nearly_flat(a, b, c, d, flatness),
         _ => orient3d(a, b, c, d) == Sign::Zero,
     };
     let mut flips = 0;

@@ -43,7 +43,9 @@
 //! whose triangles as given would cost more than [`costly_bound`] points, and that has
 //! coplanar (or, to rounding, nearly coplanar) neighbours with one marker, is recovered again
 //! from the same first tetrahedralisation with them merged, as TetGen merges coplanar facets
-//! by default. Should that fail too, the triangles as given get the whole bound after all.
+//! by default. Should that fail too, the triangles as given get the whole bound after all;
+//! and should they fail, a surface all of single precision (binary STL) is merged to its own
+//! rounding, with a warning (the surface moves by less than `2^-20` of its coordinates).
 //!
 //! **Constrained recovery** ([`RecoveryMethod3::Constrained`], beyond the paper): each missing
 //! sub-segment, then each missing sub-face, is first made present by flips
@@ -65,7 +67,7 @@
 use crate::apriori3::a_priori_points;
 use crate::classify3::{classify3, OUTSIDE};
 use crate::error::RecoveryError;
-use crate::planar::{flip_planar_diagonals, Patches};
+use crate::planar::{flip_planar_diagonals, Flatness, Patches};
 use crate::plc3::Plc3;
 use crate::recovery::merged_list;
 use crate::surface::{check_surface, CheckedSurface, PointLocation};
@@ -180,6 +182,11 @@ pub struct RecoveryHistory3 {
     /// ([`BoundaryRecovery3::coplanar_fallback`]; the passes and points reported are those of
     /// the merged surface).
     pub coplanar_merged_after: Option<usize>,
+    /// Even the merged surface and the facets as given with the whole bound failed, and the
+    /// surface, all of single precision (as binary STL is), was merged to its own rounding
+    /// (triangles thinner than `2^-20` of their coordinates): the surface moved by less than
+    /// that.
+    pub merged_to_single_precision: bool,
     /// Tetrahedra outside the domain (and in holes) after classification.
     pub tetrahedra_outside: usize,
     /// Tetrahedra inside the domain after classification.
@@ -236,6 +243,12 @@ impl fmt::Display for RecoveryHistory3 {
             writeln!(
                 f,
                 "Recovery of the facets as given stopped after {n} points: coplanar facets with one marker were merged"
+            )?;
+        }
+        if self.merged_to_single_precision {
+            writeln!(
+                f,
+                "Warning: triangles flat to single precision (2^-20) were merged too: the surface moved by up to that"
             )?;
         }
         if self.method == RecoveryMethod3::Constrained {
@@ -636,7 +649,7 @@ impl BoundaryRecovery3 {
         // differs from the surface as given: what recovery falls back on if the facets as
         // given cost too many points.
         let merged = if self.coplanar_fallback {
-            planar(Patches::NearlyCoplanar)
+            planar(Patches::NearlyCoplanar(Flatness::Double))
                 .filter(|(m, _)| m != flipped.as_ref().map_or(&plc.triangles, |(t, _)| t))
         } else {
             None
@@ -655,7 +668,6 @@ impl BoundaryRecovery3 {
         };
         let merged = merged.map(|(triangles, flips)| (with_triangles(triangles), flips));
         let constrained = self.method == RecoveryMethod3::Constrained;
-        let spare = merged.as_ref().map(|_| tri.clone());
         // A constrained recovery that does not finish is followed by the conforming one (both
         // within the cap when there is a merged surface to fall back on).
         let fallback = constrained.then(|| tri.clone());
@@ -703,47 +715,87 @@ impl BoundaryRecovery3 {
         };
         let initial = history.clone();
         let outcome = state.recover_all(fallback, self.max_steiner, cap, sides, &mut history);
-        let (mut state, plc) = match (outcome, &merged, spare) {
-            (Ok(state), _, _) => (state, plc),
-            (
-                Err(RecoveryError::SurfaceNotRecovered { added, .. }),
-                Some((merged, flips)),
-                Some(tri),
-            ) => {
-                // The facets as given cost too many points: coplanar neighbours with one
-                // marker are merged, as TetGen does by default, and recovery starts again from
-                // the same tetrahedralisation. Should that fail too, the facets as given get
-                // the whole budget after all.
-                let again = tri.clone();
-                history = RecoveryHistory3 {
-                    planar_flips: *flips,
+        // When the facets as given fail: the merged surface (all bound), the facets as given
+        // with all the bound if they had less, and for a surface of single precision (binary
+        // STL) the surface merged to its own rounding, in that order. Each starts from the
+        // same first tetrahedralisation, built again (the construction is deterministic).
+        let single = plc
+            .points
+            .iter()
+            .flatten()
+            .all(|&x| f64::from(x as f32) == x);
+        let coarse;
+        let (mut state, plc) = match outcome {
+            Ok(state) => (state, plc),
+            Err(first @ RecoveryError::SurfaceNotRecovered { .. })
+                if self.coplanar_fallback && (merged.is_some() || single) =>
+            {
+                let added = match &first {
+                    RecoveryError::SurfaceNotRecovered { added, .. } => *added,
+                    _ => 0,
+                };
+                let merged_history = RecoveryHistory3 {
                     coplanar_merged_after: Some(added),
                     ..initial.clone()
                 };
-                let fallback = constrained.then(|| tri.clone());
-                let state = State::new(tri, merged, self.max_steiner, constrained)?;
-                history.surface_edges = state.segs.len();
-                let outcome =
-                    state.recover_all(fallback, self.max_steiner, usize::MAX, sides, &mut history);
-                match outcome {
-                    Ok(state) => (state, merged),
-                    Err(RecoveryError::SurfaceNotRecovered { .. }) => {
-                        history = initial;
-                        let fallback = constrained.then(|| again.clone());
-                        let state = State::new(again, plc, self.max_steiner, constrained)?;
-                        let state = state.recover_all(
-                            fallback,
-                            self.max_steiner,
-                            usize::MAX,
-                            sides,
-                            &mut history,
-                        )?;
-                        (state, plc)
+                let mut failure = None;
+                let mut recovered = None;
+                if let Some((merged, flips)) = &merged {
+                    // Coplanar neighbours with one marker merged, as TetGen does by default.
+                    history = RecoveryHistory3 {
+                        planar_flips: *flips,
+                        ..merged_history.clone()
+                    };
+                    let tri = Triangulation3::new(&points)?;
+                    match self.attempt(tri, merged, usize::MAX, sides, &mut history) {
+                        Ok(state) => recovered = Some((state, merged)),
+                        Err(e @ RecoveryError::SurfaceNotRecovered { .. }) => failure = Some(e),
+                        Err(e) => return Err(e),
                     }
-                    Err(e) => return Err(e),
+                }
+                if recovered.is_none() && cap < usize::MAX {
+                    history = initial;
+                    let tri = Triangulation3::new(&points)?;
+                    match self.attempt(tri, plc, usize::MAX, sides, &mut history) {
+                        Ok(state) => recovered = Some((state, plc)),
+                        Err(e @ RecoveryError::SurfaceNotRecovered { .. }) => failure = Some(e),
+                        Err(e) => return Err(e),
+                    }
+                }
+                match recovered {
+                    Some(done) => done,
+                    None => {
+                        let tri = Triangulation3::new(&points)?;
+                        let near = flip_planar_diagonals(
+                            &plc.points,
+                            &plc.triangles,
+                            &tri,
+                            Patches::NearlyCoplanar(Flatness::Single),
+                        )
+                        .filter(|(t, _)| {
+                            single
+                                && merged.as_ref().map_or(&plc.triangles, |m| &m.0.triangles) != t
+                        });
+                        let Some((triangles, flips)) = near else {
+                            return Err(failure.unwrap_or(first));
+                        };
+                        coarse = Plc3 {
+                            triangles,
+                            ..plc.clone()
+                        };
+                        history = RecoveryHistory3 {
+                            planar_flips: flips,
+                            merged_to_single_precision: true,
+                            ..merged_history
+                        };
+                        (
+                            self.attempt(tri, &coarse, usize::MAX, sides, &mut history)?,
+                            &coarse,
+                        )
+                    }
                 }
             }
-            (Err(e), _, _) => return Err(e),
+            Err(e) => return Err(e),
         };
         history.final_surface_edges = state.segs.iter().map(|s| s.pts.len() - 1).sum();
 
@@ -790,6 +842,25 @@ impl BoundaryRecovery3 {
             n_input_points: n_input,
             history,
         })
+    }
+}
+
+impl BoundaryRecovery3 {
+    /// A recovery of `plc`'s triangles in `tri`, from scratch (a constrained one followed by
+    /// the conforming one if it does not finish), adding at most `cap` points.
+    fn attempt<'p>(
+        &self,
+        tri: Triangulation3,
+        plc: &'p Plc3,
+        cap: usize,
+        sides: &[f64],
+        history: &mut RecoveryHistory3,
+    ) -> Result<State<'p>, RecoveryError> {
+        let constrained = self.method == RecoveryMethod3::Constrained;
+        let fallback = constrained.then(|| tri.clone());
+        let state = State::new(tri, plc, self.max_steiner, constrained)?;
+        history.surface_edges = state.segs.len();
+        state.recover_all(fallback, self.max_steiner, cap, sides, history)
     }
 }
 

@@ -995,7 +995,7 @@ impl MeshRun3 {
                     .collect(),
             );
             format!(
-                "{{\"surface_points\": {}, \"field_points\": {}, \"duplicates_merged\": {}, \"surface_faces\": {}, \"planar_flips\": {}, \"surface_edges\": {}, \"initial_tetrahedra\": {}, \"steps\": {steps}, \"edge_points\": {}, \"face_points\": {}, \"final_surface_edges\": {}, \"final_surface_faces\": {}, \"flips\": {}, \"flipped_in\": {}, \"constrained_fallback\": {}, \"coplanar_merged_after\": {}, \"tetrahedra_outside\": {}, \"tetrahedra_inside\": {}}}",
+                "{{\"surface_points\": {}, \"field_points\": {}, \"duplicates_merged\": {}, \"surface_faces\": {}, \"planar_flips\": {}, \"surface_edges\": {}, \"initial_tetrahedra\": {}, \"steps\": {steps}, \"edge_points\": {}, \"face_points\": {}, \"final_surface_edges\": {}, \"final_surface_faces\": {}, \"flips\": {}, \"flipped_in\": {}, \"constrained_fallback\": {}, \"coplanar_merged_after\": {}, \"merged_to_single_precision\": {}, \"tetrahedra_outside\": {}, \"tetrahedra_inside\": {}}}",
                 h.surface_points,
                 h.field_points,
                 h.merged_points.len(),
@@ -1012,6 +1012,7 @@ impl MeshRun3 {
                 h.constrained_fallback,
                 h.coplanar_merged_after
                     .map_or_else(|| "null".to_string(), |n| n.to_string()),
+                h.merged_to_single_precision,
                 h.tetrahedra_outside,
                 h.tetrahedra_inside
             )

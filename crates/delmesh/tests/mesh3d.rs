@@ -743,6 +743,58 @@ fn a_cad_cylinder_too_costly_as_given_is_recovered_with_its_flat_faces_merged() 
     check_merged_cylinder(&plc, n, run, true);
 }
 
+#[test]
+fn a_turned_single_precision_cad_cylinder_is_merged_to_its_own_rounding() {
+    // As binary STL writes it: turned into a general position and rounded to single precision,
+    // its flat faces are flat only to 2^-24 or so. Nothing else recovers it within the bound;
+    // merged to that rounding it needs no point, and the volume moves by less than it.
+    let n = 200;
+    let (a, b) = (0.3f64, 0.7f64);
+    let mut plc = cad_cylinder(n, 50.0);
+    for p in &mut plc.points {
+        let (x, y, z) = (
+            p[0],
+            p[1] * b.cos() - p[2] * b.sin(),
+            p[1] * b.sin() + p[2] * b.cos(),
+        );
+        *p = [x * a.cos() - y * a.sin(), x * a.sin() + y * a.cos(), z].map(|c| f64::from(c as f32));
+    }
+    let options = MeshOptions3 {
+        max_steiner_points: Some(20_000),
+        generation: None,
+        ..MeshOptions3::default()
+    };
+    let run = mesh_plc3(&plc, &options).unwrap();
+    assert!(run.recovery.merged_to_single_precision, "{}", run.recovery);
+    assert_eq!(run.recovery.points_added(), 0);
+    assert!(run.summary().contains("flat to single precision"));
+    run.mesh
+        .ct
+        .validate()
+        .expect("Delaunay with protected faces waived");
+    let enclosed = check_surface(&plc).unwrap().domain_volume().unwrap();
+    let a = &run.arrays;
+    let volume: f64 = a
+        .tets
+        .iter()
+        .map(|t| {
+            let p = t.map(|i| a.coords[i as usize]);
+            assert_eq!(orient3d(p[0], p[1], p[2], p[3]), Sign::Positive);
+            tet_volume(p[0], p[1], p[2], p[3])
+        })
+        .sum();
+    assert!(
+        (volume - enclosed).abs() <= 1e-6 * enclosed,
+        "volume {volume}, enclosed {enclosed}"
+    );
+    // Without the merge to single precision, the bound stops it.
+    let keep = MeshOptions3 {
+        coplanar_fallback: false,
+        ..options
+    };
+    assert!(mesh_plc3(&plc, &keep).is_err());
+}
+
 /// Seeds of the spiky stars.
 const STAR_SEEDS: u64 = 6;
 
