@@ -106,6 +106,16 @@ pub enum Error {
         /// The fields it has, comma-separated.
         available: String,
     },
+    /// The spacing asked of the surface ([`crate::mesh3d::MeshOptions3::surface_spacing`]) is
+    /// not a positive length, or would split the surface into more triangles than delmesh
+    /// meshes.
+    #[error("surface spacing {value}: {reason}")]
+    SurfaceSpacing {
+        /// The spacing asked.
+        value: f64,
+        /// Why it cannot be used.
+        reason: String,
+    },
     /// Smoothing options are invalid or its input is inconsistent.
     #[error(transparent)]
     Smoothing(#[from] SmoothError),
@@ -167,6 +177,7 @@ impl Error {
             | Error::Restoration(_)
             | Error::PointGeneration(_)
             | Error::Smoothing(_)
+            | Error::SurfaceSpacing { .. }
             | Error::OutOfRange { .. }
             | Error::Internal(_) => None,
         }

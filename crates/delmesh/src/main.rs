@@ -159,6 +159,12 @@ struct MeshArgs {
     /// their coordinates); the summary says so.
     #[arg(long, conflicts_with = "merge_coplanar")]
     keep_facets: bool,
+    /// 3D: split every surface triangle longer than H, in its own plane, to spacing H before
+    /// meshing (each edge cut into equal pieces shared by its two triangles, so each input
+    /// triangle is the union of its pieces, with its marker); the field points follow. For CAD
+    /// surfaces (STL exports) whose long thin triangles otherwise make flat tetrahedra.
+    #[arg(long, value_name = "H")]
+    surface_spacing: Option<f64>,
     /// Write the run's report (passes, quality, time per stage) as JSON.
     #[arg(long, value_name = "FILE.json")]
     report: Option<PathBuf>,
@@ -520,6 +526,7 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
         max_steiner_points: args.max_steiner,
         merge_coplanar: args.merge_coplanar,
         coplanar_fallback: !args.keep_facets,
+        surface_spacing: args.surface_spacing,
         delaunay: !args.no_flips,
         sliver_flips: args.sliver_flips,
         refinement: (!args.no_refinement).then(QualityRefinement3::default),

@@ -20,8 +20,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use delmesh_boundary_recovery::{
-    BoundaryRecovery3, Mesh3, MeshArrays3, Plc3, PolygonFacet, RecoveryHistory3, RecoveryMethod3,
-    RecoveryStep, RegionSeed3, SurfaceTriangle, OUTSIDE,
+    check_surface, BoundaryRecovery3, Mesh3, MeshArrays3, Plc3, PolygonFacet, RecoveryError,
+    RecoveryHistory3, RecoveryMethod3, RecoveryStep, RegionSeed3, SurfaceTriangle, OUTSIDE,
 };
 use delmesh_delaunay_core::{FacetRef, Flips3, Improvement3, VertexId};
 use delmesh_io::{SurfaceFile, TetMeshOut};
@@ -35,7 +35,7 @@ use delmesh_smoothing::{
 };
 use rayon::prelude::*;
 
-use crate::surface_split::{facet_caps, split_surface};
+use crate::surface_split::{check_surface_spacing, facet_caps, remesh_surface, split_surface};
 use crate::{units, Error};
 
 /// Where the spacing of 3D point generation comes from.
@@ -86,6 +86,13 @@ pub struct MeshOptions3 {
     /// ([`BoundaryRecovery3::coplanar_fallback`], default on); off, every input triangle is
     /// kept and recovery stops with an error at the bound.
     pub coplanar_fallback: bool,
+    /// Split the surface triangles to this spacing before recovery (`None`: the surface as
+    /// given, the paper's method): each triangle longer than it is meshed in its own plane,
+    /// every edge cut into equal pieces shared by both its triangles, so each input triangle is
+    /// the union of its pieces, with its marker. A CAD surface's long thin triangles (an STL
+    /// export) otherwise make flat tetrahedra however many field points are added; the field
+    /// points' spacing follows the split surface's.
+    pub surface_spacing: Option<f64>,
     /// Radius–edge refinement after point generation (`None`: none; needs generation).
     pub refinement: Option<QualityRefinement3>,
     /// Laplacian smoothing of the field points (`None`: no smoothing).
@@ -112,6 +119,7 @@ impl Default for MeshOptions3 {
             max_steiner_points: None,
             merge_coplanar: false,
             coplanar_fallback: true,
+            surface_spacing: None,
             refinement: Some(QualityRefinement3::default()),
             smoothing: Some(Smoother3::new().iterations(SMOOTHING_PASSES)),
             delaunay: true,
@@ -177,12 +185,24 @@ pub struct MeshRun3 {
 /// or a bad option.
 pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> {
     units::check_range(&plc.points, plc.first_index)?;
+    if let Some(h) = options.surface_spacing {
+        // Checked here, in the caller's units, on the surface as given (so that errors name
+        // the input's triangles).
+        check_surface(plc).map_err(RecoveryError::from)?;
+        check_surface_spacing(plc, h)?;
+    }
     let e = units::normalising_exponent(&plc.points);
     if e == 0 {
         return mesh_plc3_as_given(plc, options);
     }
+    let asked = options.surface_spacing;
     let (plc, options) = units::scale_problem3(plc, options, e);
-    let mut run = mesh_plc3_as_given(&plc, &options)?;
+    let mut run = mesh_plc3_as_given(&plc, &options).map_err(|err| match (err, asked) {
+        (Error::SurfaceSpacing { reason, .. }, Some(value)) => {
+            Error::SurfaceSpacing { value, reason }
+        }
+        (err, _) => err,
+    })?;
     units::unscale_run3(&mut run, -e)?;
     Ok(run)
 }
@@ -257,6 +277,22 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
         timings.push((name, clock.elapsed().as_secs_f64()));
         clock = Instant::now();
     };
+    // The surface split to the spacing asked (checked by `mesh_plc3`).
+    let spaced;
+    let plc = match options.surface_spacing {
+        Some(h) if h != f64::INFINITY => {
+            let split = remesh_surface(plc, h)?;
+            lap("surface spacing", &mut timings);
+            match split {
+                Some(p) => {
+                    spaced = p;
+                    &spaced
+                }
+                None => plc,
+            }
+        }
+        _ => plc,
+    };
     // Regional volume limits are honoured when points are generated: generation's spacing is
     // capped there, and too large tetrahedra are split.
     let base = u64::from(plc.first_index);
@@ -276,7 +312,28 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
     if let Some(n) = options.max_steiner_points {
         recovery = recovery.max_steiner_points(n);
     }
-    let mut mesh = recovery.run(plc)?;
+    let mut mesh = recovery
+        .run(plc)
+        .map_err(|e| match (e, options.surface_spacing) {
+            // Walls of a thin gap, each meshed in its own plane, no longer face each other point
+            // for point: a conforming recovery then needs points at the gap's width.
+            (e @ RecoveryError::SurfaceNotRecovered { .. }, Some(h)) => Error::SurfaceSpacing {
+                value: h,
+                reason: format!(
+                    "{e}; where the split surface's walls are closer than the spacing, try \
+                 --recovery constrained or a-priori, or a smaller spacing"
+                ),
+            },
+            // The surface as given passed these checks (`mesh_plc3`).
+            (e @ RecoveryError::Surface(_), Some(h)) => Error::SurfaceSpacing {
+                value: h,
+                reason: format!(
+                    "the surface split to it fails the surface checks (a bug in delmesh; \
+                     without --surface-spacing the surface is meshed as given): {e}"
+                ),
+            },
+            (e, _) => e.into(),
+        })?;
     // The surface next to a limited region is split to its spacing (see `surface_split`),
     // once the recovery has told which regions each facet bounds; then recovered again.
     let split;
@@ -294,7 +351,8 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
                 .into());
             }
             let caps = facet_caps(&mesh, &limits.spacing_caps());
-            match split_surface(plc, &caps)? {
+            let cap_of = |t: &SurfaceTriangle| caps.get(&t.facet).copied();
+            match split_surface(plc, |t| cap_of(t).unwrap_or(f64::INFINITY))? {
                 Some(p) => {
                     split = p;
                     mesh = recovery.run(&split)?;

@@ -1,13 +1,17 @@
-//! The surface next to a region with a volume limit, split to that region's spacing before
-//! the 3D pipeline runs (as TetGen splits the boundary its `-a` refinement encroaches).
+//! Surface triangles split to a spacing before the 3D pipeline runs: next to a region with a
+//! volume limit (as TetGen splits the boundary its `-a` refinement encroaches), and everywhere
+//! a spacing for the surface is asked ([`MeshOptions3::surface_spacing`]).
 //!
-//! A surface triangle much larger than the spacing a volume limit asks for makes the
-//! tetrahedra on it flat: a 12-triangle unit cube limited to 1e-4 gave 72,796 slivers in
-//! 270,158 tetrahedra. So a first recovery (of the surface alone) tells which regions each
-//! facet bounds; every triangle of a facet next to a limited region is then meshed in its own
-//! plane by the 2D pipeline at that region's spacing ([`spacing_for_volume`]), each edge split
-//! into the same equal pieces for both triangles sharing it, so that the new surface
-//! conforms. New triangles keep their triangle's marker and facet.
+//! A surface triangle much larger than the spacing asked makes the tetrahedra on it flat: a
+//! 12-triangle unit cube limited to 1e-4 gave 72,796 slivers in 270,158 tetrahedra, and a
+//! CAD cylinder whose sides are triangles 80 times longer than wide gives half its tetrahedra
+//! under 5°. So every triangle to split is meshed in its own plane by the 2D pipeline at its
+//! spacing, each edge split into the same equal pieces for both triangles sharing it, so that
+//! the new surface conforms. New triangles keep their triangle's marker and facet. For volume
+//! limits, a first recovery (of the surface alone) tells which regions each facet bounds
+//! ([`facet_caps`]).
+//!
+//! [`MeshOptions3::surface_spacing`]: crate::mesh3d::MeshOptions3::surface_spacing
 
 use std::collections::HashMap;
 
@@ -19,6 +23,7 @@ use rayon::prelude::*;
 use crate::geometry3::{cross, dist, dot, sub};
 use crate::mesh2d::{mesh_plc, MeshOptions2};
 use crate::Error;
+use delmesh_predicates::{orient3d, Sign};
 
 /// The finest spacing asked of each facet (by facet id): the smallest cap (by region index) of
 /// the regions on either side of its faces in `mesh`; facets with none are left out.
@@ -48,16 +53,15 @@ pub(crate) fn facet_caps(mesh: &Mesh3, caps: &[f64]) -> HashMap<u32, f64> {
     out
 }
 
-/// `plc` with every triangle of a facet whose cap (`facet_caps`) is finite and smaller than
-/// its edges split to that spacing; `None` if no triangle needs it.
+/// `plc` with every triangle whose cap (`cap_of`: a spacing, or infinite for none) is smaller
+/// than its edges split to that spacing; `None` if no triangle needs it.
 ///
 /// # Errors
 /// Only if meshing a triangle in its plane fails, which would be a bug.
 pub(crate) fn split_surface(
     plc: &Plc3,
-    facet_caps: &HashMap<u32, f64>,
+    cap_of: impl Fn(&SurfaceTriangle) -> f64 + Sync,
 ) -> Result<Option<Plc3>, Error> {
-    let cap_of = |t: &SurfaceTriangle| facet_caps.get(&t.facet).copied().unwrap_or(f64::INFINITY);
     // Pieces of each edge (by sorted ends): enough for the finest triangle on it.
     let mut pieces: HashMap<(u32, u32), usize> = HashMap::new();
     for t in &plc.triangles {
@@ -68,7 +72,7 @@ pub(crate) fn split_surface(
         for k in 0..3 {
             let (a, b) = (t.v[k], t.v[(k + 1) % 3]);
             let len = dist(plc.points[a as usize], plc.points[b as usize]);
-            // (At most 2^16 pieces; a limit that asks for more is refused before this.)
+            // (At most 2^16 pieces; a spacing that asks for more is refused before this.)
             let n = (len / cap).ceil().clamp(1.0, 65536.0) as usize;
             let e = pieces.entry((a.min(b), a.max(b))).or_insert(1);
             *e = (*e).max(n);
@@ -147,7 +151,44 @@ pub(crate) fn split_surface(
     Ok(Some(out))
 }
 
-/// A triangle's ring and the triangles of its mesh in its plane.
+/// Most surface triangles a surface spacing may ask for (before the field points): 2^24.
+const MAX_SPACED_TRIANGLES: f64 = (1u64 << 24) as f64;
+
+/// Checks that `h` can split `plc`'s surface: a positive length (infinity splits nothing) that
+/// asks for at most 2^16 pieces of an edge and about [`MAX_SPACED_TRIANGLES`] triangles (a
+/// triangle of area `a` takes about `a / (h²·√3/4)` equilateral ones). `plc`'s points must be
+/// in range and its triangles name existing points.
+///
+/// # Errors
+/// [`Error::SurfaceSpacing`], saying why.
+pub(crate) fn check_surface_spacing(plc: &Plc3, h: f64) -> Result<(), Error> {
+    let refuse = |reason: String| Err(Error::SurfaceSpacing { value: h, reason });
+    if h.is_nan() || h <= 0.0 {
+        return refuse("must be a positive length".into());
+    }
+    let (mut longest, mut triangles) = (0.0f64, 0.0);
+    for t in &plc.triangles {
+        let p = t.v.map(|i| plc.points[i as usize]);
+        for k in 0..3 {
+            longest = longest.max(dist(p[k], p[(k + 1) % 3]));
+        }
+        let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
+        triangles += 0.5 * dot(n, n).sqrt() / (h * h * 3f64.sqrt() / 4.0) + 1.0;
+    }
+    if longest / h > 65536.0 {
+        return refuse(format!(
+            "a surface edge {longest:e} long would be split into more than 65,536 pieces"
+        ));
+    }
+    if triangles > MAX_SPACED_TRIANGLES {
+        return refuse(format!(
+            "the surface would be split into about {triangles:.1e} triangles (at most {MAX_SPACED_TRIANGLES:.1e}); give a larger spacing"
+        ));
+    }
+    Ok(())
+}
+
+/// A ring (or a patch's points) and the triangles of its mesh in its plane.
 type RingMesh = (Vec<u32>, Vec<[Corner; 3]>);
 
 /// A corner of a triangle meshed in its plane: a point of the ring, or a new one.
@@ -166,6 +207,22 @@ fn mesh_in_plane(
     p: [[f64; 3]; 3],
     cap: f64,
 ) -> Result<Vec<[Corner; 3]>, Error> {
+    let m = ring.len();
+    let loop_segments: Vec<(usize, usize)> = (0..m).map(|k| (k, (k + 1) % m)).collect();
+    mesh_in_plane_with(points, ring, &loop_segments, p, cap)
+}
+
+/// The triangles (ordered as the 3D triangle `p`) of the 2D mesh, in the plane of `p`, of the
+/// points `ids` (in `points`) with the segments `segments` (pairs of positions in `ids`) as
+/// its boundary, filled at spacing `cap`; the points `ids` stay as they are (recovery by flips
+/// adds none) and are `Corner::Ring(position)`.
+fn mesh_in_plane_with(
+    points: &[[f64; 3]],
+    ids: &[u32],
+    segments: &[(usize, usize)],
+    p: [[f64; 3]; 3],
+    cap: f64,
+) -> Result<Vec<[Corner; 3]>, Error> {
     // A frame in the plane: u along the first edge, w = n × u, so (u, w, n) is right-handed
     // and counter-clockwise in the frame is the triangle's own orientation.
     let u = normalise(sub(p[1], p[0]));
@@ -175,19 +232,27 @@ fn mesh_in_plane(
         let d = sub(q, p[0]);
         [dot(d, u), dot(d, w)]
     };
-    let m = ring.len() as u32;
     let plc = Plc2 {
-        points: ring.iter().map(|&i| to_2d(points[i as usize])).collect(),
-        segments: (0..m)
-            .map(|k| Segment {
-                a: k,
-                b: (k + 1) % m,
+        points: ids.iter().map(|&i| to_2d(points[i as usize])).collect(),
+        segments: segments
+            .iter()
+            .map(|&(a, b)| Segment {
+                a: a as u32,
+                b: b as u32,
                 marker: 1,
             })
             .collect(),
         ..Plc2::default()
     };
-    let centre = [0, 1].map(|k| plc.points.iter().map(|q| q[k]).sum::<f64>() / f64::from(m));
+    let m = ids.len() as f64;
+    let centre = [0, 1].map(|k| plc.points.iter().map(|q| q[k]).sum::<f64>() / m);
+    // Smoothing moves every point on no segment (a patch's own vertices inside it, which must
+    // stay where the surface has them): none then.
+    let mut on_segment = vec![false; ids.len()];
+    for &(a, b) in segments {
+        (on_segment[a], on_segment[b]) = (true, true);
+    }
+    let defaults = MeshOptions2::default();
     let options = MeshOptions2 {
         recovery: RecoveryMethod::Constrained,
         generation: Some(PointGeneration::default()),
@@ -198,22 +263,23 @@ fn mesh_in_plane(
             radius: f64::MAX.sqrt(),
             growth: 0.0,
         }],
-        ..MeshOptions2::default()
+        smoothing: defaults.smoothing.filter(|_| on_segment.iter().all(|&s| s)),
+        ..defaults
     };
     let run = mesh_plc(&plc, &options)?;
     let a = &run.arrays;
-    // The ring comes back first, as given (it is what joins this triangle's mesh to its
-    // neighbours'): two of its points merged would shift every index.
-    if a.coords.get(..ring.len()) != Some(&plc.points[..]) {
+    // The given points come back first, as given (they join this mesh to its neighbours'):
+    // two of them merged would shift every index.
+    if a.coords.get(..ids.len()) != Some(&plc.points[..]) {
         return Err(Error::Internal(format!(
-            "a surface triangle split for a volume limit lost a point of its edges ({} of {})",
-            a.coords.len().min(ring.len()),
-            ring.len()
+            "a surface split to a spacing lost a point of its edges ({} of {})",
+            a.coords.len().min(ids.len()),
+            ids.len()
         )));
     }
     let corner = |i: u32| {
         let i = i as usize;
-        if i < ring.len() {
+        if i < ids.len() {
             Corner::Ring(i)
         } else {
             let [x, y] = a.coords[i];
@@ -221,6 +287,234 @@ fn mesh_in_plane(
         }
     };
     Ok(a.triangles.iter().map(|t| t.map(corner)).collect())
+}
+
+/// `plc`'s surface remeshed at spacing `h` ([`MeshOptions3::surface_spacing`]): the surface is
+/// cut into planar patches (triangles joined across edges of exactly two triangles that are
+/// exactly coplanar, with one marker and turning the same way), and each patch with an edge
+/// longer than `h` is meshed in its plane by the 2D pipeline at spacing `h`, its boundary
+/// edges cut into equal pieces shared with the patch beyond. A patch is meshed whole, not
+/// triangle by triangle: a CAD part's flat face is a fan of thin triangles from one corner,
+/// and meshing each would pack points into every sharp corner of the fan. Its points, the
+/// corners of its triangles, stay; its triangles get its marker and its smallest facet
+/// number. `None` if no edge is longer than `h`. `plc` must have passed the surface checks.
+///
+/// [`MeshOptions3::surface_spacing`]: crate::mesh3d::MeshOptions3::surface_spacing
+///
+/// # Errors
+/// Only if meshing a patch in its plane fails, which would be a bug.
+pub(crate) fn remesh_surface(plc: &Plc3, h: f64) -> Result<Option<Plc3>, Error> {
+    let tris = &plc.triangles;
+    let point = |i: u32| plc.points[i as usize];
+    let key = |a: u32, b: u32| (a.min(b), a.max(b));
+    // The triangles on each edge, and each edge's direction in them.
+    let mut on_edge: HashMap<(u32, u32), Vec<(u32, bool)>> = HashMap::with_capacity(tris.len() * 2);
+    let mut longest = 0.0f64;
+    for (k, t) in tris.iter().enumerate() {
+        for j in 0..3 {
+            let (a, b) = (t.v[j], t.v[(j + 1) % 3]);
+            on_edge
+                .entry(key(a, b))
+                .or_default()
+                .push((k as u32, a < b));
+            longest = longest.max(dist(point(a), point(b)));
+        }
+    }
+    if longest <= h {
+        return Ok(None);
+    }
+    // Two triangles on an edge are one patch if they are the edge's only two, exactly coplanar,
+    // with one marker, and turn the same way (the edge runs opposite ways in them).
+    let joined = |ts: &[(u32, bool)]| -> bool {
+        let [(s, ds), (t, dt)] = ts else {
+            return false;
+        };
+        let (s, t) = (&tris[*s as usize], &tris[*t as usize]);
+        if s.marker != t.marker || ds == dt {
+            return false;
+        }
+        let p = s.v.map(point);
+        t.v.iter()
+            .all(|&v| s.v.contains(&v) || orient3d(p[0], p[1], p[2], point(v)) == Sign::Zero)
+    };
+    let mut patch = vec![u32::MAX; tris.len()];
+    let mut patches: Vec<Vec<u32>> = Vec::new();
+    for start in 0..tris.len() {
+        if patch[start] != u32::MAX {
+            continue;
+        }
+        let id = patches.len() as u32;
+        let mut members = vec![start as u32];
+        patch[start] = id;
+        let mut at = 0;
+        while at < members.len() {
+            let t = &tris[members[at] as usize];
+            at += 1;
+            for j in 0..3 {
+                let ts = &on_edge[&key(t.v[j], t.v[(j + 1) % 3])];
+                if joined(ts) {
+                    for &(u, _) in ts {
+                        if patch[u as usize] == u32::MAX {
+                            patch[u as usize] = id;
+                            members.push(u);
+                        }
+                    }
+                }
+            }
+        }
+        members.sort_unstable();
+        patches.push(members);
+    }
+    let mut out = Plc3 {
+        triangles: Vec::with_capacity(tris.len()),
+        ..plc.clone()
+    };
+    // The points inside each edge on a patch's boundary, from its smaller end (shared by the
+    // patches on either side), in edge order so that the numbering does not depend on the hash.
+    let mut edges: Vec<(u32, u32)> = on_edge
+        .iter()
+        .filter(|(_, ts)| !joined(ts))
+        .map(|(&e, _)| e)
+        .collect();
+    edges.sort_unstable();
+    let mut inside: HashMap<(u32, u32), Vec<u32>> = HashMap::with_capacity(edges.len());
+    for (a, b) in edges {
+        let (pa, pb) = (point(a), point(b));
+        // (At most 2^16 pieces: checked by `check_surface_spacing`.)
+        let n = (dist(pa, pb) / h).ceil().clamp(1.0, 65536.0) as usize;
+        let ids = (1..n)
+            .map(|j| {
+                out.points.push(lerp(pa, pb, j as f64 / n as f64));
+                out.points.len() as u32 - 1
+            })
+            .collect();
+        inside.insert((a, b), ids);
+    }
+    // Each patch: its corners, the points inside its boundary edges, and those edges' pieces.
+    let points = &out.points;
+    let meshes: Vec<Option<RingMesh>> = patches
+        .par_iter()
+        .map(|members| {
+            let short = |&t: &u32| {
+                let v = tris[t as usize].v;
+                (0..3).all(|j| dist(point(v[j]), point(v[(j + 1) % 3])) <= h)
+            };
+            if members.iter().all(short) {
+                return Ok(None);
+            }
+            let mut corners: Vec<u32> = members.iter().flat_map(|&t| tris[t as usize].v).collect();
+            corners.sort_unstable();
+            corners.dedup();
+            let at = |i: u32| corners.binary_search(&i).expect("a corner of the patch");
+            let mut ids = corners.clone();
+            let mut segments = Vec::new();
+            let mut seen = std::collections::HashSet::new();
+            for &t in members {
+                let v = tris[t as usize].v;
+                for j in 0..3 {
+                    let (a, b) = (v[j], v[(j + 1) % 3]);
+                    let Some(within) = inside.get(&key(a, b)) else {
+                        continue;
+                    };
+                    if !seen.insert(key(a, b)) {
+                        continue;
+                    }
+                    let mut chain = vec![at(a.min(b))];
+                    for &q in within {
+                        chain.push(ids.len());
+                        ids.push(q);
+                    }
+                    chain.push(at(a.max(b)));
+                    segments.extend(chain.windows(2).map(|w| (w[0], w[1])));
+                }
+            }
+            // The frame of the patch's largest triangle (its normal is the most accurate).
+            let area = |t: &u32| {
+                let p = tris[*t as usize].v.map(point);
+                let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
+                dot(n, n)
+            };
+            let largest = members
+                .iter()
+                .max_by(|a, b| area(a).total_cmp(&area(b)))
+                .expect("a patch has a triangle");
+            let frame = tris[*largest as usize].v.map(point);
+            let triangles = mesh_in_plane_with(points, &ids, &segments, frame, h)?;
+            // The patch's mesh must cover the patch: its area, to rounding. If not (a patch
+            // whose loops the 2D exterior deletion reads otherwise), each triangle is meshed
+            // alone, with the same points on its edges.
+            let at = |c: &Corner| match *c {
+                Corner::Ring(k) => points[ids[k] as usize],
+                Corner::New(q) => q,
+            };
+            let meshed: f64 = triangles
+                .iter()
+                .map(|t| triangle_area(t.each_ref().map(at)))
+                .sum();
+            let given: f64 = members
+                .iter()
+                .map(|&t| triangle_area(tris[t as usize].v.map(point)))
+                .sum();
+            if (meshed - given).abs() <= 1e-9 * given {
+                return Ok(Some((ids, triangles)));
+            }
+            let (mut ids, mut triangles) = (Vec::new(), Vec::new());
+            for &t in members {
+                let v = tris[t as usize].v;
+                let mut ring = Vec::new();
+                for j in 0..3 {
+                    let (a, b) = (v[j], v[(j + 1) % 3]);
+                    ring.push(a);
+                    if let Some(within) = inside.get(&key(a, b)) {
+                        if a < b {
+                            ring.extend_from_slice(within);
+                        } else {
+                            ring.extend(within.iter().rev());
+                        }
+                    }
+                }
+                let base = ids.len();
+                let own = mesh_in_plane(points, &ring, v.map(point), h)?;
+                ids.extend_from_slice(&ring);
+                triangles.extend(own.into_iter().map(|c| {
+                    c.map(|x| match x {
+                        Corner::Ring(k) => Corner::Ring(base + k),
+                        new => new,
+                    })
+                }));
+            }
+            Ok(Some((ids, triangles)))
+        })
+        .collect::<Result<_, Error>>()?;
+    for (members, meshed) in patches.iter().zip(meshes) {
+        let Some((ids, triangles)) = meshed else {
+            out.triangles
+                .extend(members.iter().map(|&t| tris[t as usize]));
+            continue;
+        };
+        let first = tris[members[0] as usize];
+        let facet = members.iter().map(|&t| tris[t as usize].facet).min();
+        for v in triangles {
+            let v = v.map(|x| match x {
+                Corner::Ring(k) => ids[k],
+                Corner::New(q) => {
+                    out.points.push(q);
+                    out.points.len() as u32 - 1
+                }
+            });
+            out.triangles.push(SurfaceTriangle {
+                v,
+                marker: first.marker,
+                facet: facet.unwrap_or(first.facet),
+            });
+        }
+    }
+    Ok(Some(out))
+}
+
+fn triangle_area(p: [[f64; 3]; 3]) -> f64 {
+    let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
+    0.5 * dot(n, n).sqrt()
 }
 
 fn lerp(a: [f64; 3], b: [f64; 3], t: f64) -> [f64; 3] {

@@ -139,6 +139,7 @@ pub(crate) fn scale_problem3(plc: &Plc3, options: &MeshOptions3, e: i32) -> (Plc
     for s in &mut options.sources {
         *s = s.scaled(e);
     }
+    options.surface_spacing = options.surface_spacing.map(|h| h * f);
     (plc, options)
 }
 

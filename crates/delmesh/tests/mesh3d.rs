@@ -744,6 +744,52 @@ fn a_cad_cylinder_too_costly_as_given_is_recovered_with_its_flat_faces_merged() 
 }
 
 #[test]
+fn a_surface_spacing_remeshes_a_cad_cylinder_patch_by_patch() {
+    // 100 sides, height 5: sides 80 times longer than wide and caps fanned from one corner
+    // leave half the tetrahedra under 5° however many points are added inside. At spacing
+    // 0.1 each flat patch (a cap, a side) is meshed in its plane as a whole.
+    let n = 100;
+    let plc = cad_cylinder(n, 5.0);
+    let as_given = mesh_plc3(&plc, &MeshOptions3::default()).unwrap();
+    let spaced = MeshOptions3 {
+        surface_spacing: Some(0.1),
+        ..MeshOptions3::default()
+    };
+    let run = mesh_plc3(&plc, &spaced).unwrap();
+    let a = &run.arrays;
+    for t in &a.faces {
+        let p = t.map(|i| a.coords[i as usize]);
+        for k in 0..3 {
+            let d = [0, 1, 2].map(|j| p[k][j] - p[(k + 1) % 3][j]);
+            assert!(
+                (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() < 0.2,
+                "{p:?}"
+            );
+        }
+    }
+    let (q, q0) = (&run.quality, &as_given.quality);
+    assert!(
+        q.slivers * 100 < q.elements && q0.slivers * 3 > q0.elements,
+        "slivers {} of {} (as given: {} of {})",
+        q.slivers,
+        q.elements,
+        q0.slivers,
+        q0.elements
+    );
+    assert!(q.max_radius_edge < 10.0, "{}", q.max_radius_edge);
+    check_merged_cylinder(&plc, n, run, true);
+    // A spacing that is not a positive length, or asks too much, is an error.
+    for h in [0.0, -1.0, f64::NAN, 1e-9] {
+        let bad = MeshOptions3 {
+            surface_spacing: Some(h),
+            ..MeshOptions3::default()
+        };
+        let e = mesh_plc3(&plc, &bad).unwrap_err();
+        assert!(e.to_string().starts_with("surface spacing"), "{e}");
+    }
+}
+
+#[test]
 fn a_turned_single_precision_cad_cylinder_is_merged_to_its_own_rounding() {
     // As binary STL writes it: turned into a general position and rounded to single precision,
     // its flat faces are flat only to 2^-24 or so. Nothing else recovers it within the bound;
