@@ -159,10 +159,11 @@ struct MeshArgs {
     /// their coordinates); the summary says so.
     #[arg(long, conflicts_with = "merge_coplanar")]
     keep_facets: bool,
-    /// 3D: split every surface triangle longer than H, in its own plane, to spacing H before
-    /// meshing (each edge cut into equal pieces shared by its two triangles, so each input
-    /// triangle is the union of its pieces, with its marker); the field points follow. For CAD
-    /// surfaces (STL exports) whose long thin triangles otherwise make flat tetrahedra.
+    /// 3D: remesh the surface at spacing H before meshing: each planar patch (exactly coplanar
+    /// neighbouring triangles with one marker) with an edge longer than H is meshed in its
+    /// plane, its boundary edges cut into equal pieces shared with the patch beyond (markers
+    /// kept); the field points follow. For CAD surfaces (STL exports) whose long thin
+    /// triangles otherwise make flat tetrahedra.
     #[arg(long, value_name = "H")]
     surface_spacing: Option<f64>,
     /// Write the run's report (passes, quality, time per stage) as JSON.

@@ -86,12 +86,13 @@ pub struct MeshOptions3 {
     /// ([`BoundaryRecovery3::coplanar_fallback`], default on); off, every input triangle is
     /// kept and recovery stops with an error at the bound.
     pub coplanar_fallback: bool,
-    /// Split the surface triangles to this spacing before recovery (`None`: the surface as
-    /// given, the paper's method): each triangle longer than it is meshed in its own plane,
-    /// every edge cut into equal pieces shared by both its triangles, so each input triangle is
-    /// the union of its pieces, with its marker. A CAD surface's long thin triangles (an STL
-    /// export) otherwise make flat tetrahedra however many field points are added; the field
-    /// points' spacing follows the split surface's.
+    /// Remesh the surface at this spacing before recovery (`None`: the surface as given, the
+    /// paper's method): each planar patch (exactly coplanar neighbours with one marker) with
+    /// an edge longer than it is meshed whole in its plane, its boundary edges cut into equal
+    /// pieces shared with the patch beyond; each patch is the union of its new triangles, which
+    /// keep its marker (an input triangle is not, where its patch has several). A CAD
+    /// surface's long thin triangles (an STL export) otherwise make flat tetrahedra however
+    /// many field points are added; the field points' spacing follows the new surface's.
     pub surface_spacing: Option<f64>,
     /// Radius–edge refinement after point generation (`None`: none; needs generation).
     pub refinement: Option<QualityRefinement3>,
