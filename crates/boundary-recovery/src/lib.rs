@@ -46,6 +46,7 @@ pub use plc::{spacing_for_area, Plc2, RegionSeed, Segment};
 pub use plc3::{Plc3, RegionSeed3, SurfaceTriangle};
 pub use recovery::{
     BoundaryEdge, BoundaryRecovery, Mesh2, RecoveryHistory, RecoveryMethod, RecoveryPass,
+    SegmentSplits, SplitFn,
 };
 pub use recovery3::{
     costly_bound, BoundaryFace, BoundaryRecovery3, Mesh3, RecoveryHistory3, RecoveryMethod3,

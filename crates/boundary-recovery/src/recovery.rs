@@ -27,6 +27,7 @@ use delmesh_delaunay_core::{
 use delmesh_predicates::{orient2d, Sign};
 use std::collections::HashMap;
 use std::fmt;
+use std::sync::Arc;
 
 /// How missing boundary segments are recovered.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -178,6 +179,21 @@ pub struct BoundaryRecovery {
     method: RecoveryMethod,
     extra_points: Vec<[f64; 2]>,
     area_limits: bool,
+    segment_splits: Option<SegmentSplits>,
+}
+
+/// Where to split a boundary edge, given its ends: the parameters in `(0, 1)`, increasing
+/// (empty: keep it whole). See [`BoundaryRecovery::with_segment_splits`].
+#[derive(Clone)]
+pub struct SegmentSplits(pub Arc<SplitFn>);
+
+/// The function of [`SegmentSplits`].
+pub type SplitFn = dyn Fn([f64; 2], [f64; 2]) -> Vec<f64> + Send + Sync;
+
+impl std::fmt::Debug for SegmentSplits {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("SegmentSplits(..)")
+    }
 }
 
 /// A piece of a checked segment while stitching.
@@ -195,7 +211,16 @@ impl BoundaryRecovery {
             method,
             extra_points: Vec::new(),
             area_limits: false,
+            segment_splits: None,
         }
+    }
+
+    /// Splits every recovered boundary edge where `splits` says (spacing sources finer than
+    /// the boundary: point generation cannot fill the domain finer next to a boundary edge
+    /// than the edge itself, and thin elements pile up along it), then recovers the pieces.
+    pub fn with_segment_splits(mut self, splits: SegmentSplits) -> Self {
+        self.segment_splits = Some(splits);
+        self
     }
 
     /// Splits the boundary edges next to a region with an area limit
@@ -274,6 +299,21 @@ impl BoundaryRecovery {
             RecoveryMethod::Constrained => state.constrain_by_flips(&mut history)?,
         };
         let mut cdt = cdt;
+        if let Some(SegmentSplits(split_at)) = &self.segment_splits {
+            let tri = cdt.triangulation();
+            let splits: Vec<(usize, Vec<f64>)> = state
+                .subs
+                .iter()
+                .enumerate()
+                .filter_map(|(i, s)| {
+                    let at = split_at(tri.vertex(s.a), tri.vertex(s.b));
+                    (!at.is_empty()).then_some((i, at))
+                })
+                .collect();
+            if !splits.is_empty() {
+                cdt = self.split_and_recover(&mut state, cdt, &splits, &mut history)?;
+            }
+        }
         if self.area_limits && plc.has_area_limits() {
             classify(&mut cdt, plc)?;
             check_area_limits(&cdt, plc)?;
@@ -284,15 +324,7 @@ impl BoundaryRecovery {
                 .collect();
             let splits = long_subsegments(&cdt, &state.subs, &longest);
             if !splits.is_empty() {
-                state.tri = cdt.into_triangulation();
-                state.split_subsegments(&splits, &mut history)?;
-                cdt = match self.method {
-                    RecoveryMethod::Constrained => state.constrain_by_flips(&mut history)?,
-                    _ => {
-                        state.stitch(&mut history)?;
-                        state.constrain()?
-                    }
-                };
+                cdt = self.split_and_recover(&mut state, cdt, &splits, &mut history)?;
             }
         }
         let region_attributes = classify(&mut cdt, plc)?;
@@ -317,6 +349,28 @@ impl BoundaryRecovery {
             n_input_points: n_input,
             history,
         })
+    }
+}
+
+impl BoundaryRecovery {
+    /// Splits the sub-segments `splits` (index, parameters) of a recovered boundary and
+    /// recovers the pieces.
+    fn split_and_recover(
+        &self,
+        state: &mut State,
+        cdt: ConstrainedTriangulation2,
+        splits: &[(usize, Vec<f64>)],
+        history: &mut RecoveryHistory,
+    ) -> Result<ConstrainedTriangulation2, RecoveryError> {
+        state.tri = cdt.into_triangulation();
+        state.split_subsegments(splits, history)?;
+        match self.method {
+            RecoveryMethod::Constrained => state.constrain_by_flips(history),
+            _ => {
+                state.stitch(history)?;
+                state.constrain()
+            }
+        }
     }
 }
 
@@ -570,19 +624,17 @@ impl<'a> State<'a> {
     /// spacing. One recovery pass in the history.
     fn split_subsegments(
         &mut self,
-        splits: &[(usize, usize)],
+        splits: &[(usize, Vec<f64>)],
         history: &mut RecoveryHistory,
     ) -> Result<(), RecoveryError> {
         let before = self.pass(0);
         let mut at = Vec::new();
-        for &(i, pieces) in splits {
+        for (i, ts) in splits {
             let (pa, pb) = (
-                self.tri.vertex(self.subs[i].a),
-                self.tri.vertex(self.subs[i].b),
+                self.tri.vertex(self.subs[*i].a),
+                self.tri.vertex(self.subs[*i].b),
             );
-            for j in 1..pieces {
-                at.push(lerp(pa, pb, j as f64 / pieces as f64));
-            }
+            at.extend(ts.iter().map(|&t| lerp(pa, pb, t)));
         }
         let mut vertex = vec![VertexId(0); at.len()];
         for k in insertion_order::<D2>(&at) {
@@ -592,16 +644,19 @@ impl<'a> State<'a> {
             };
         }
         let mut next = vertex.into_iter();
-        for &(i, pieces) in splits {
-            let s = self.subs[i];
-            let length = dist(self.tri.vertex(s.a), self.tri.vertex(s.b)) / pieces as f64;
+        for (i, ts) in splits {
+            let (i, s) = (*i, self.subs[*i]);
+            let length = dist(self.tri.vertex(s.a), self.tri.vertex(s.b));
             let mut a = s.a;
-            for v in next.by_ref().take(pieces - 1) {
+            for (k, v) in next.by_ref().take(ts.len()).enumerate() {
                 // (A point rounded onto an end, or onto the previous point, splits nothing.)
                 if v == a || v == s.b {
                     continue;
                 }
-                self.set_spacing(v, length);
+                // The spacing there: the shorter of the pieces on either side.
+                let before = ts[k] - if k > 0 { ts[k - 1] } else { 0.0 };
+                let after = ts.get(k + 1).copied().unwrap_or(1.0) - ts[k];
+                self.set_spacing(v, length * before.min(after));
                 if a == s.a {
                     self.subs[i].b = v;
                 } else {
@@ -697,7 +752,7 @@ fn long_subsegments(
     cdt: &ConstrainedTriangulation2,
     subs: &[Sub],
     longest: &[f64],
-) -> Vec<(usize, usize)> {
+) -> Vec<(usize, Vec<f64>)> {
     let tri = cdt.triangulation();
     let limit = |c: CellId| {
         let tag = cdt.tag(c);
@@ -718,8 +773,8 @@ fn long_subsegments(
             let h = limit(c)
                 .min(limit(tri.neighbor_facet(c, e).cell()))
                 .max(shortest(length));
-            let pieces = (length / h).ceil();
-            (pieces > 1.0).then_some((i, pieces as usize))
+            let pieces = (length / h).ceil() as usize;
+            (pieces > 1).then(|| (i, (1..pieces).map(|j| j as f64 / pieces as f64).collect()))
         })
         .collect()
 }

@@ -299,13 +299,16 @@ impl ConstrainedTriangulation2 {
         })
     }
 
-    /// Inserts `point` if `accept(self, cell, edge)` agrees, where `cell` is the finite cell
-    /// containing it and `edge` the local index of the edge it lies on, if any; `Ok(None)`
-    /// otherwise. The walk starts at `hint` (a cell near the point makes it short). Cell slots
-    /// are never freed by this type's operations, so an old cell id is always a valid hint.
+    /// Inserts `point`, a constructed point (a centroid, a circumcentre), if `accept(self,
+    /// cell, edge)` agrees, where `cell` is the finite cell containing it and `edge` the local
+    /// index of the edge it lies on, if any; `Ok(None)` otherwise, and for a point outside the
+    /// convex hull or on a hull edge (rounding put it there). A coordinate too small for the
+    /// triangulation's range is flushed to zero. The walk starts at `hint` (a cell near the
+    /// point makes it short). Cell slots are never freed by this type's operations, so an old
+    /// cell id is always a valid hint.
     ///
     /// # Errors
-    /// As [`Self::insert`].
+    /// A non-finite coordinate, or one too large for the triangulation's range.
     pub fn insert_near_if(
         &mut self,
         point: [f64; 2],
@@ -319,7 +322,12 @@ impl ConstrainedTriangulation2 {
         } else {
             self.tri.last
         };
-        self.insert_where(point, hint, |cdt, (c, e)| accept(cdt, c, e))
+        // A constructed point: tiny coordinates are flushed to zero.
+        let point = self.tri.flush_tiny(point);
+        match self.insert_where(point, hint, |cdt, (c, e)| accept(cdt, c, e)) {
+            Err(ConstraintError::OutsideHull { .. }) => Ok(None),
+            other => other,
+        }
     }
 
     /// Locates `point` (caller's coordinates): the cell containing it or the vertex at it.

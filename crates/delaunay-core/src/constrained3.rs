@@ -214,7 +214,7 @@ impl ConstrainedTriangulation3 {
         fine: impl Fn([[f64; 3]; 4]) -> bool,
         keep_delaunay: bool,
     ) -> Result<Option<VertexId>, TriangulationError> {
-        let p = self.tri.scaled_input(point)?;
+        let p = self.tri.scaled_input(self.tri.flush_tiny(point))?;
         let hint = if hint.index() < self.tri.simplices.len()
             && self.tri.simplices[hint.index()].v[0] != VertexId::DEAD
         {
@@ -275,7 +275,7 @@ impl ConstrainedTriangulation3 {
         y: VertexId,
         point: [f64; 3],
     ) -> Result<Option<(VertexId, Vec<VertexId>)>, TriangulationError> {
-        let p = self.tri.scaled_input(point)?;
+        let p = self.tri.scaled_input(self.tri.flush_tiny(point))?;
         let n = self.tri.num_vertices();
         if x == y || x.is_ghost() || y.is_ghost() || x.index() >= n || y.index() >= n {
             return Ok(None);
@@ -394,7 +394,7 @@ impl ConstrainedTriangulation3 {
         near: VertexId,
         bowyer_watson: bool,
     ) -> Result<Option<VertexId>, TriangulationError> {
-        let p = self.tri.scaled_input(point)?;
+        let p = self.tri.scaled_input(self.tri.flush_tiny(point))?;
         let start = if !near.is_ghost() && near.index() < self.tri.num_vertices() {
             self.tri.incident[near.index()]
         } else {

@@ -484,7 +484,7 @@ impl<D: Dim> Triangulation<D> {
                 });
             }
             let m = s.abs();
-            if m != 0.0 && !(self.min_magnitude..=COORDINATE_RANGE.1).contains(&m) {
+            if x != 0.0 && !(self.min_magnitude..=COORDINATE_RANGE.1).contains(&m) {
                 return Err(TriangulationError::CoordinateRange {
                     index: input,
                     value: x,
@@ -493,6 +493,21 @@ impl<D: Dim> Triangulation<D> {
             }
         }
         Ok(p)
+    }
+
+    /// `point` (caller's coordinates) with every coordinate too small for the triangulation's
+    /// range (see [`Triangulation::insert`]) flushed to zero, which the predicates handle
+    /// exactly. For constructed points (centroids, circumcentres, mid-points, smoothed
+    /// positions): one that lands within `2^-142` of the largest coordinate from an axis
+    /// moves onto it, far below what any test can see; input points are refused instead.
+    pub(crate) fn flush_tiny(&self, point: D::Point) -> D::Point {
+        let mut p = point;
+        for x in p.as_mut() {
+            if (*x * self.scale).abs() < self.min_magnitude {
+                *x = 0.0;
+            }
+        }
+        p
     }
 
     /// Puts the vertices of `moves` at their new positions (caller's coordinates), checking no
@@ -508,12 +523,7 @@ impl<D: Dim> Triangulation<D> {
         let mut old = Vec::with_capacity(moves.len());
         let mut moved = vec![false; self.num_vertices()];
         for &(v, p) in moves {
-            let mut p = p;
-            for x in p.as_mut() {
-                if (*x * self.scale).abs() < self.min_magnitude {
-                    *x = 0.0;
-                }
-            }
+            let p = self.flush_tiny(p);
             let q = if v.is_ghost() || v.index() >= self.num_vertices() {
                 Err(ConstraintError::InvalidMove { vertex: v })
             } else {
@@ -1622,8 +1632,9 @@ fn scale_for<D: Dim>(points: &[D::Point]) -> Result<(f64, f64), TriangulationErr
     let min_magnitude = COORDINATE_RANGE.0;
     for (index, p) in points.iter().enumerate() {
         for &x in p.as_ref() {
+            // (A subnormal `x` can scale to zero: the test is on `x`.)
             let m = x.abs() * scale;
-            if m != 0.0 && m < min_magnitude {
+            if x != 0.0 && m < min_magnitude {
                 return Err(TriangulationError::CoordinateRange {
                     index,
                     value: x,

@@ -198,6 +198,48 @@ fn a_point_on_a_constrained_edge_splits_it() {
     ));
 }
 
+/// Constructed points (mesh generation's centroids and circumcentres): one rounded onto or
+/// beyond the hull is refused, not an error; one within 2^-142 of an axis is flushed onto it
+/// rather than refused as out of range (found by the adversarial sweep: a centroid on the
+/// top edge of a square at α 0.001, one 1.5e-43 from x = 0 under a spacing source).
+#[test]
+fn a_constructed_point_on_the_hull_is_refused_and_a_tiny_coordinate_flushed() {
+    let pts = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]];
+    let mut cdt = ConstrainedTriangulation2::new(Triangulation2::new(&pts).unwrap());
+    let hint = CellId(0);
+    for p in [[1.0, 2.0], [3.0, 1.0], [2.0, 1.0]] {
+        assert_eq!(
+            cdt.insert_near_if(p, hint, |_, _, _| true),
+            Ok(None),
+            "{p:?}"
+        );
+        // Input points there stay an error.
+        assert!(matches!(
+            cdt.insert(p),
+            Err(ConstraintError::OutsideHull { .. })
+        ));
+    }
+    assert!(matches!(
+        cdt.insert([1.5e-43, 1.0]),
+        Err(ConstraintError::Triangulation(_))
+    ));
+    // Flushed onto x = 0, the hull: refused.
+    assert_eq!(
+        cdt.insert_near_if([1.5e-43, 1.0], hint, |_, _, _| true),
+        Ok(None)
+    );
+    // A square around the origin: a point 1e-300 below the axis y = 0 goes in on it.
+    let pts = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
+    let mut cdt = ConstrainedTriangulation2::new(Triangulation2::new(&pts).unwrap());
+    let v = cdt
+        .insert_near_if([0.5, -1e-300], CellId(0), |_, _, _| true)
+        .unwrap()
+        .unwrap()
+        .vertex();
+    assert_eq!(cdt.triangulation().vertex(v), [0.5, 0.0]);
+    cdt.validate().unwrap();
+}
+
 #[test]
 fn moves_that_invert_are_refused_and_flips_restore_delaunay() {
     let pts = uniform2(500, 11);

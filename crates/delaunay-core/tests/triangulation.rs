@@ -227,6 +227,18 @@ fn bad_input_is_an_error_not_a_panic() {
         Triangulation2::new(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1e-300, 1.0]]),
         Err(TriangulationError::CoordinateRange { index: 3, .. })
     ));
+    // A subnormal coordinate scales to zero: still refused, not flushed (it was, and the
+    // triangulation of (-1, 5e-324) (1, 0) (1, 2) (-1, 2) came out Delaunay only for y = 0).
+    let tiny = [[-1.0, 5e-324], [1.0, 0.0], [1.0, 2.0], [-1.0, 2.0]];
+    assert!(matches!(
+        Triangulation2::new(&tiny),
+        Err(TriangulationError::CoordinateRange { index: 0, .. })
+    ));
+    let mut t = Triangulation2::new(&tiny[1..]).unwrap();
+    assert!(matches!(
+        t.insert([-1.0, 5e-324]),
+        Err(TriangulationError::CoordinateRange { .. })
+    ));
 }
 
 #[test]

@@ -116,6 +116,15 @@ pub enum Error {
         /// Why it cannot be used.
         reason: String,
     },
+    /// A spacing source (numbered from 1 in the order given) has a bad value, or asks for
+    /// more elements than delmesh can index.
+    #[error("source {number}: {reason}")]
+    Source {
+        /// Its number, from 1.
+        number: usize,
+        /// What is wrong.
+        reason: String,
+    },
     /// Smoothing options are invalid or its input is inconsistent.
     #[error(transparent)]
     Smoothing(#[from] SmoothError),
@@ -178,6 +187,7 @@ impl Error {
             | Error::PointGeneration(_)
             | Error::Smoothing(_)
             | Error::SurfaceSpacing { .. }
+            | Error::Source { .. }
             | Error::OutOfRange { .. }
             | Error::Internal(_) => None,
         }

@@ -38,6 +38,7 @@ pub mod geometry;
 pub mod geometry3;
 pub mod mesh2d;
 pub mod mesh3d;
+mod sources;
 mod surface_split;
 pub mod units;
 

@@ -20,10 +20,12 @@
 //! ```
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 use delmesh_boundary_recovery::{
-    BoundaryRecovery, Mesh2, MeshArrays, Plc2, RecoveryHistory, RecoveryMethod, RegionSeed, Segment,
+    BoundaryRecovery, Mesh2, MeshArrays, Plc2, RecoveryHistory, RecoveryMethod, RegionSeed,
+    Segment, SegmentSplits,
 };
 use delmesh_io::PolyFile;
 use delmesh_point_gen::{
@@ -32,6 +34,7 @@ use delmesh_point_gen::{
 };
 use delmesh_smoothing::{QualityReport, SmoothStats, Smoother};
 
+use crate::sources::check_sources2;
 use crate::{units, Error};
 
 /// Where the spacing of automatic point generation comes from.
@@ -59,6 +62,11 @@ pub struct MeshOptions2 {
     pub spacing: Spacing,
     /// Analytic sources refining the spacing.
     pub sources: Vec<Source>,
+    /// Whether boundary edges longer than the sources' spacing along them are split before
+    /// point generation (default true: generation cannot fill the domain next to an edge
+    /// finer than the edge, and thin triangles pile up along it). Off, the boundary is kept
+    /// as given (a surface patch whose edges its neighbours share).
+    pub split_boundary_for_sources: bool,
     /// Laplacian smoothing (`None`: no smoothing).
     pub smoothing: Option<Smoother>,
     /// After smoothing, restore the (constrained) Delaunay property by edge flips.
@@ -74,6 +82,7 @@ impl Default for MeshOptions2 {
             refinement: Some(QualityRefinement::default()),
             spacing: Spacing::Boundary,
             sources: Vec::new(),
+            split_boundary_for_sources: true,
             smoothing: Some(Smoother::new()),
             delaunay_flips: true,
         }
@@ -117,6 +126,9 @@ pub struct MeshRun2 {
 /// with no element, or a bad option.
 pub fn mesh_plc(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Error> {
     units::check_range(&plc.points, plc.first_index)?;
+    if options.generation.is_some() {
+        check_sources2(&options.sources, &plc.points)?;
+    }
     let e = units::normalising_exponent(&plc.points);
     if e == 0 {
         return mesh_plc_as_given(plc, options);
@@ -139,10 +151,23 @@ fn mesh_plc_as_given(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Err
     // a region is split, generation's spacing capped there, and too large elements split.
     let limits = (options.generation.is_some() && plc.has_area_limits())
         .then(|| AreaLimits::new(plc.area_limits()));
-    let mut mesh = BoundaryRecovery::new(options.recovery)
+    let mut recovery = BoundaryRecovery::new(options.recovery)
         .with_points(options.extra_points.clone())
-        .with_area_limits(limits.is_some())
-        .run(plc)?;
+        .with_area_limits(limits.is_some());
+    if options.generation.is_some()
+        && !options.sources.is_empty()
+        && options.split_boundary_for_sources
+    {
+        // The boundary is split where the sources ask for finer spacing than its edges.
+        let sources = options
+            .sources
+            .iter()
+            .fold(SpacingField::boundary(), |f, s| f.with_source(*s));
+        recovery = recovery.with_segment_splits(SegmentSplits(Arc::new(move |a, b| {
+            sources.source_splits(a, b)
+        })));
+    }
+    let mut mesh = recovery.run(plc)?;
     lap("boundary recovery", &mut timings);
     let mut refined = 0;
     let mut area_limited = limits.as_ref().map(|_| 0);

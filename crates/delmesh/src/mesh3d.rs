@@ -35,7 +35,10 @@ use delmesh_smoothing::{
 };
 use rayon::prelude::*;
 
-use crate::surface_split::{check_surface_spacing, facet_caps, remesh_surface, split_surface};
+use crate::sources::check_sources3;
+use crate::surface_split::{
+    check_surface_spacing, facet_caps, remesh_surface, split_surface, SurfaceSizing,
+};
 use crate::{units, Error};
 
 /// Where the spacing of 3D point generation comes from.
@@ -186,10 +189,16 @@ pub struct MeshRun3 {
 /// or a bad option.
 pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> {
     units::check_range(&plc.points, plc.first_index)?;
-    if let Some(h) = options.surface_spacing {
+    let sources = options.generation.is_some() && !options.sources.is_empty();
+    if sources {
+        check_sources3(&options.sources, &plc.points)?;
+    }
+    if options.surface_spacing.is_some() || sources {
         // Checked here, in the caller's units, on the surface as given (so that errors name
-        // the input's triangles).
+        // the input's triangles): the surface is remeshed before recovery.
         check_surface(plc).map_err(RecoveryError::from)?;
+    }
+    if let Some(h) = options.surface_spacing {
         check_surface_spacing(plc, h)?;
     }
     let e = units::normalising_exponent(&plc.points);
@@ -278,21 +287,30 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
         timings.push((name, clock.elapsed().as_secs_f64()));
         clock = Instant::now();
     };
-    // The surface split to the spacing asked (checked by `mesh_plc3`).
+    // The surface split to the spacing asked (checked by `mesh_plc3`), and where sources ask
+    // for finer spacing than its triangles: generation cannot fill the volume next to a
+    // surface triangle finer than the triangle, and flat tetrahedra pile up on it.
+    let sizing = SurfaceSizing {
+        h: options.surface_spacing.unwrap_or(f64::INFINITY),
+        sources: if options.generation.is_some() {
+            &options.sources
+        } else {
+            &[]
+        },
+    };
     let spaced;
-    let plc = match options.surface_spacing {
-        Some(h) if h != f64::INFINITY => {
-            let split = remesh_surface(plc, h)?;
-            lap("surface spacing", &mut timings);
-            match split {
-                Some(p) => {
-                    spaced = p;
-                    &spaced
-                }
-                None => plc,
+    let plc = if sizing.h != f64::INFINITY || !sizing.sources.is_empty() {
+        let split = remesh_surface(plc, &sizing)?;
+        lap("surface spacing", &mut timings);
+        match split {
+            Some(p) => {
+                spaced = p;
+                &spaced
             }
+            None => plc,
         }
-        _ => plc,
+    } else {
+        plc
     };
     // Regional volume limits are honoured when points are generated: generation's spacing is
     // capped there, and too large tetrahedra are split.
@@ -378,11 +396,7 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
             let caps = limits
                 .as_ref()
                 .map_or_else(Vec::new, VolumeLimits::spacing_caps);
-            let report = settings.run_capped(
-                &mut mesh,
-                |p, from_nodes| field.spacing(p, from_nodes),
-                &caps,
-            )?;
+            let report = settings.run_capped(&mut mesh, &field, &caps)?;
             lap("point generation", &mut timings);
             if let Some(refinement) = &options.refinement {
                 refined = refinement.run(&mut mesh)?;

@@ -17,7 +17,7 @@ use std::collections::HashMap;
 
 use delmesh_boundary_recovery::{Mesh3, Plc2, Plc3, RecoveryMethod, Segment, SurfaceTriangle};
 use delmesh_delaunay_core::VertexId;
-use delmesh_point_gen::{PointGeneration, Source};
+use delmesh_point_gen::{graded_splits, PointGeneration, Source, Source3};
 use rayon::prelude::*;
 
 use crate::geometry3::{cross, dist, dot, sub};
@@ -128,7 +128,15 @@ pub(crate) fn split_surface(
                 return Ok(None);
             }
             let p = t.v.map(|i| plc.points[i as usize]);
-            let triangles = mesh_in_plane(points, &ring, p, cap)?;
+            let triangles = mesh_in_plane(
+                points,
+                &ring,
+                p,
+                &SurfaceSizing {
+                    h: cap,
+                    sources: &[],
+                },
+            )?;
             Ok(Some((ring, triangles)))
         })
         .collect::<Result<_, Error>>()?;
@@ -198,30 +206,111 @@ enum Corner {
     New([f64; 3]),
 }
 
+/// The spacing a surface is remeshed to: a uniform spacing `h` (infinite: none) and the
+/// volume's spacing sources, whichever is finer.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SurfaceSizing<'a> {
+    /// The uniform spacing ([`MeshOptions3::surface_spacing`]; infinite for none).
+    ///
+    /// [`MeshOptions3::surface_spacing`]: crate::mesh3d::MeshOptions3::surface_spacing
+    pub h: f64,
+    /// The sources.
+    pub sources: &'a [Source3],
+}
+
+impl SurfaceSizing<'_> {
+    /// The spacing asked at `p`.
+    fn at(&self, p: [f64; 3]) -> f64 {
+        self.sources.iter().fold(self.h, |h, s| h.min(s.spacing(p)))
+    }
+
+    /// Whether some edge of the triangle `p` is longer than the spacing asked somewhere on it.
+    fn too_coarse(&self, p: [[f64; 3]; 3]) -> bool {
+        let finest = self
+            .sources
+            .iter()
+            .fold(self.h, |h, s| h.min(s.finest_on_triangle(p)));
+        (0..3).any(|k| dist(p[k], p[(k + 1) % 3]) > finest)
+    }
+
+    /// Where to split the edge `a b` (see [`graded_splits`]): uniform pieces for `h` alone.
+    fn edge_splits(&self, a: [f64; 3], b: [f64; 3]) -> Vec<f64> {
+        let length = dist(a, b);
+        let finest = self
+            .sources
+            .iter()
+            .fold(self.h, |h, s| h.min(s.finest_on_segment(a, b)));
+        if length.is_nan() || length <= finest {
+            return Vec::new();
+        }
+        let growth = self.sources.iter().fold(0.0f64, |g, s| g.max(s.growth));
+        graded_splits(length, |t| self.at(lerp(a, b, t)), growth)
+    }
+
+    /// The sizing as 2D sources in the plane through `origin` with the orthonormal axes
+    /// `u`, `w` and normal `n`. A 3D source at height `z` off the plane (the least over a
+    /// segment source) asks, at in-plane distance `d`, for at least
+    /// `h0 + growth·max(z − r, d − r, 0)`: the 2D source at its projection with spacing
+    /// `h0 + growth·max(z − r, 0)` within radius `max(r, z)` asks for no more than that.
+    fn in_plane(&self, origin: [f64; 3], u: [f64; 3], w: [f64; 3], n: [f64; 3]) -> Vec<Source> {
+        let to_2d = |q: [f64; 3]| {
+            let d = sub(q, origin);
+            [dot(d, u), dot(d, w)]
+        };
+        let mut out = Vec::with_capacity(self.sources.len() + 1);
+        if self.h.is_finite() {
+            out.push(Source {
+                a: [0.0; 2],
+                b: [0.0; 2],
+                h0: self.h,
+                radius: f64::MAX.sqrt(),
+                growth: 0.0,
+            });
+        }
+        for s in self.sources {
+            let (za, zb) = (dot(sub(s.a, origin), n), dot(sub(s.b, origin), n));
+            let z = if za * zb <= 0.0 {
+                0.0
+            } else {
+                za.abs().min(zb.abs())
+            };
+            out.push(Source {
+                a: to_2d(s.a),
+                b: to_2d(s.b),
+                h0: s.h0 + s.growth * (z - s.radius).max(0.0),
+                radius: s.radius.max(z),
+                growth: s.growth,
+            });
+        }
+        out
+    }
+}
+
 /// The triangles (ordered as the 3D triangle `p`) of the 2D mesh of the polygon `ring` (in
-/// `points`) in the plane of `p`, filled at spacing `cap`; the ring's points stay as they are
+/// `points`) in the plane of `p`, filled to `sizing`; the ring's points stay as they are
 /// (recovery by flips adds none).
 fn mesh_in_plane(
     points: &[[f64; 3]],
     ring: &[u32],
     p: [[f64; 3]; 3],
-    cap: f64,
+    sizing: &SurfaceSizing,
 ) -> Result<Vec<[Corner; 3]>, Error> {
     let m = ring.len();
     let loop_segments: Vec<(usize, usize)> = (0..m).map(|k| (k, (k + 1) % m)).collect();
-    mesh_in_plane_with(points, ring, &loop_segments, p, cap)
+    mesh_in_plane_with(points, ring, &loop_segments, p, sizing)
 }
 
 /// The triangles (ordered as the 3D triangle `p`) of the 2D mesh, in the plane of `p`, of the
 /// points `ids` (in `points`) with the segments `segments` (pairs of positions in `ids`) as
-/// its boundary, filled at spacing `cap`; the points `ids` stay as they are (recovery by flips
-/// adds none) and are `Corner::Ring(position)`.
+/// its boundary, filled to `sizing`; the points `ids` stay as they are (recovery by flips
+/// adds none, and the sources split no edge: they are shared with the neighbours) and are
+/// `Corner::Ring(position)`.
 fn mesh_in_plane_with(
     points: &[[f64; 3]],
     ids: &[u32],
     segments: &[(usize, usize)],
     p: [[f64; 3]; 3],
-    cap: f64,
+    sizing: &SurfaceSizing,
 ) -> Result<Vec<[Corner; 3]>, Error> {
     // A frame in the plane: u along the first edge, w = n × u, so (u, w, n) is right-handed
     // and counter-clockwise in the frame is the triangle's own orientation.
@@ -244,8 +333,6 @@ fn mesh_in_plane_with(
             .collect(),
         ..Plc2::default()
     };
-    let m = ids.len() as f64;
-    let centre = [0, 1].map(|k| plc.points.iter().map(|q| q[k]).sum::<f64>() / m);
     // Smoothing moves every point on no segment (a patch's own vertices inside it, which must
     // stay where the surface has them): none then.
     let mut on_segment = vec![false; ids.len()];
@@ -256,13 +343,8 @@ fn mesh_in_plane_with(
     let options = MeshOptions2 {
         recovery: RecoveryMethod::Constrained,
         generation: Some(PointGeneration::default()),
-        sources: vec![Source {
-            a: centre,
-            b: centre,
-            h0: cap,
-            radius: f64::MAX.sqrt(),
-            growth: 0.0,
-        }],
+        sources: sizing.in_plane(p[0], u, w, n),
+        split_boundary_for_sources: false,
         smoothing: defaults.smoothing.filter(|_| on_segment.iter().all(|&s| s)),
         ..defaults
     };
@@ -303,13 +385,20 @@ fn mesh_in_plane_with(
 ///
 /// # Errors
 /// Only if meshing a patch in its plane fails, which would be a bug.
-pub(crate) fn remesh_surface(plc: &Plc3, h: f64) -> Result<Option<Plc3>, Error> {
+pub(crate) fn remesh_surface(plc: &Plc3, sizing: &SurfaceSizing) -> Result<Option<Plc3>, Error> {
     let tris = &plc.triangles;
     let point = |i: u32| plc.points[i as usize];
     let key = |a: u32, b: u32| (a.min(b), a.max(b));
+    // Which triangles have an edge longer than the spacing asked on them.
+    let coarse: Vec<bool> = tris
+        .par_iter()
+        .map(|t| sizing.too_coarse(t.v.map(point)))
+        .collect();
+    if !coarse.contains(&true) {
+        return Ok(None);
+    }
     // The triangles on each edge, and each edge's direction in them.
     let mut on_edge: HashMap<(u32, u32), Vec<(u32, bool)>> = HashMap::with_capacity(tris.len() * 2);
-    let mut longest = 0.0f64;
     for (k, t) in tris.iter().enumerate() {
         for j in 0..3 {
             let (a, b) = (t.v[j], t.v[(j + 1) % 3]);
@@ -317,11 +406,7 @@ pub(crate) fn remesh_surface(plc: &Plc3, h: f64) -> Result<Option<Plc3>, Error> 
                 .entry(key(a, b))
                 .or_default()
                 .push((k as u32, a < b));
-            longest = longest.max(dist(point(a), point(b)));
         }
-    }
-    if longest <= h {
-        return Ok(None);
     }
     // Two triangles on an edge are one patch if they are the edge's only two, exactly coplanar,
     // with one marker, and turn the same way (the edge runs opposite ways in them).
@@ -378,13 +463,16 @@ pub(crate) fn remesh_surface(plc: &Plc3, h: f64) -> Result<Option<Plc3>, Error> 
         .collect();
     edges.sort_unstable();
     let mut inside: HashMap<(u32, u32), Vec<u32>> = HashMap::with_capacity(edges.len());
-    for (a, b) in edges {
+    let splits: Vec<Vec<f64>> = edges
+        .par_iter()
+        .map(|&(a, b)| sizing.edge_splits(point(a), point(b)))
+        .collect();
+    for ((a, b), ts) in edges.into_iter().zip(splits) {
         let (pa, pb) = (point(a), point(b));
-        // (At most 2^16 pieces: checked by `check_surface_spacing`.)
-        let n = (dist(pa, pb) / h).ceil().clamp(1.0, 65536.0) as usize;
-        let ids = (1..n)
-            .map(|j| {
-                out.points.push(lerp(pa, pb, j as f64 / n as f64));
+        let ids = ts
+            .into_iter()
+            .map(|t| {
+                out.points.push(lerp(pa, pb, t));
                 out.points.len() as u32 - 1
             })
             .collect();
@@ -395,11 +483,7 @@ pub(crate) fn remesh_surface(plc: &Plc3, h: f64) -> Result<Option<Plc3>, Error> 
     let meshes: Vec<Option<RingMesh>> = patches
         .par_iter()
         .map(|members| {
-            let short = |&t: &u32| {
-                let v = tris[t as usize].v;
-                (0..3).all(|j| dist(point(v[j]), point(v[(j + 1) % 3])) <= h)
-            };
-            if members.iter().all(short) {
+            if !members.iter().any(|&t| coarse[t as usize]) {
                 return Ok(None);
             }
             let mut corners: Vec<u32> = members.iter().flat_map(|&t| tris[t as usize].v).collect();
@@ -439,7 +523,7 @@ pub(crate) fn remesh_surface(plc: &Plc3, h: f64) -> Result<Option<Plc3>, Error> 
                 .max_by(|a, b| area(a).total_cmp(&area(b)))
                 .expect("a patch has a triangle");
             let frame = tris[*largest as usize].v.map(point);
-            let triangles = mesh_in_plane_with(points, &ids, &segments, frame, h)?;
+            let triangles = mesh_in_plane_with(points, &ids, &segments, frame, sizing)?;
             // The patch's mesh must cover the patch: its area, to rounding. If not (a patch
             // whose loops the 2D exterior deletion reads otherwise), each triangle is meshed
             // alone, with the same points on its edges.
@@ -474,7 +558,7 @@ pub(crate) fn remesh_surface(plc: &Plc3, h: f64) -> Result<Option<Plc3>, Error> 
                     }
                 }
                 let base = ids.len();
-                let own = mesh_in_plane(points, &ring, v.map(point), h)?;
+                let own = mesh_in_plane(points, &ring, v.map(point), sizing)?;
                 ids.extend_from_slice(&ring);
                 triangles.extend(own.into_iter().map(|c| {
                     c.map(|x| match x {

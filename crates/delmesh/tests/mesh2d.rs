@@ -484,3 +484,73 @@ fn a_priori_points_rounded_onto_a_boundary_edge_are_refused() {
         check_run_of_area(&run, &plc, "slot corner", 1.0);
     }
 }
+
+/// A spacing source smaller than the elements and off their centroids (in a corner of a
+/// coarse square) was ignored (the α test at the centroids refused every candidate); once
+/// generation started near one, thin triangles piled up along the boundary edge next to it
+/// (areas rounding to 0). Now the α test takes the finest spacing a source asks anywhere in
+/// the element, and the boundary edges are split to the sources' spacing along them.
+#[test]
+fn a_corner_source_refines_the_boundary_and_the_elements_next_to_it() {
+    use delmesh::point_gen::Source;
+    let mut plc = Plc2::default();
+    square_loop(&mut plc, 0.0, 10.0, 1, false);
+    square_loop(&mut plc, 4.0, 6.0, 1, true);
+    plc.holes.push([5.0, 5.0]);
+    for growth in [1.0, 0.1] {
+        let source = Source {
+            a: [0.5, 0.5],
+            b: [0.5, 0.5],
+            h0: 0.01,
+            radius: 1.0,
+            growth,
+        };
+        let options = MeshOptions2 {
+            sources: vec![source],
+            ..MeshOptions2::default()
+        };
+        let run = mesh_plc(&plc, &options).unwrap();
+        let name = format!("corner source, growth {growth}");
+        check_run(&run, &plc, &name);
+        let a = &run.arrays;
+        let near = a
+            .coords
+            .iter()
+            .filter(|p| (p[0] - 0.5).hypot(p[1] - 0.5) < 1.0)
+            .count();
+        assert!(near > 5000, "{name}: {near} points within the radius");
+        for e in &a.edges {
+            let (p, q) = (a.coords[e[0] as usize], a.coords[e[1] as usize]);
+            let length = (p[0] - q[0]).hypot(p[1] - q[1]);
+            assert!(
+                length <= source.finest_on(p, q) * (1.0 + 1e-9),
+                "{name}: boundary edge {p:?} {q:?} longer than the spacing on it"
+            );
+        }
+        assert!(
+            run.quality.min_angle > 14.0,
+            "{name}: min angle {}",
+            run.quality.min_angle
+        );
+    }
+}
+
+/// At a small α a centroid rounds onto the square's top edge (the convex hull): refused like
+/// one on any boundary edge (it was an error, "lies outside the triangulated region").
+#[test]
+fn a_small_alpha_fills_a_square_with_a_hole() {
+    let mut plc = Plc2::default();
+    square_loop(&mut plc, 0.0, 10.0, 1, false);
+    square_loop(&mut plc, 4.0, 6.0, 1, true);
+    plc.holes.push([5.0, 5.0]);
+    let options = MeshOptions2 {
+        generation: Some(delmesh::point_gen::PointGeneration {
+            alpha: 0.01,
+            ..Default::default()
+        }),
+        ..MeshOptions2::default()
+    };
+    let run = mesh_plc(&plc, &options).unwrap();
+    check_run(&run, &plc, "alpha 0.01");
+    assert!(run.arrays.coords.len() > 10_000);
+}

@@ -1170,3 +1170,57 @@ fn a_restoration_that_cannot_triangulate_again_keeps_the_flipped_mesh() {
     // A slot cut into one side: a ball.
     check(&plc, &run, 1, false);
 }
+
+/// A spacing source in a corner of a coarse cube: it was ignored (4 points added), and once
+/// the α test took the finest spacing it asks anywhere in a tetrahedron, flat tetrahedra piled
+/// up on the coarse faces next to it without end. Now the surface is remeshed where a source
+/// asks for finer spacing than its triangles (graded, planar patch by patch).
+#[test]
+fn a_corner_source_refines_the_surface_and_the_volume_next_to_it() {
+    use delmesh::point_gen::Source3;
+    let (plc, _) = lattice_box([10.0; 3], [1, 1, 1], |p| p, false);
+    let source = Source3 {
+        a: [0.5; 3],
+        b: [0.5; 3],
+        h0: 0.05,
+        radius: 0.5,
+        growth: 1.0,
+    };
+    let options = MeshOptions3 {
+        sources: vec![source],
+        ..MeshOptions3::default()
+    };
+    let run = mesh_plc3(&plc, &options).unwrap();
+    let a = &run.arrays;
+    let near = a
+        .coords
+        .iter()
+        .filter(|p| p.iter().map(|x| (x - 0.5) * (x - 0.5)).sum::<f64>() < 1.0)
+        .count();
+    assert!(near > 2000, "{near} points within 1 of the source");
+    // Surface edges at about the spacing asked on them (point generation at α = 1 leaves
+    // edges up to about twice the spacing), the cube's coarse faces split where it asks.
+    let mut split = 0;
+    for t in &a.faces {
+        let p = t.map(|i| a.coords[i as usize]);
+        for k in 0..3 {
+            let (u, v) = (p[k], p[(k + 1) % 3]);
+            let d = [0, 1, 2].map(|j| u[j] - v[j]);
+            let length = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            assert!(
+                length <= source.finest_on_segment(u, v) * 2.5,
+                "surface edge {u:?} {v:?}"
+            );
+            split += usize::from(length < 1.0);
+        }
+    }
+    assert!(split > 1000, "{split} short surface edges");
+    let q = &run.quality;
+    assert!(
+        q.slivers * 50 < q.elements,
+        "{} of {}",
+        q.slivers,
+        q.elements
+    );
+    check(&plc, &run, 1, true);
+}

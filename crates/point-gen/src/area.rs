@@ -16,7 +16,7 @@
 
 use crate::generate::{elements_where, set, PointGenError};
 use delmesh_boundary_recovery::Mesh2;
-use delmesh_delaunay_core::{CellId, ConstraintError, Insertion};
+use delmesh_delaunay_core::{CellId, Insertion};
 
 /// The area limit of each region (by region index, as elements are tagged; infinite where
 /// there is none): `delmesh_boundary_recovery::Plc2::area_limits`.
@@ -94,7 +94,7 @@ impl AreaLimits {
                         set(&mut mesh.spacing, v, spacing);
                         inserted += 1;
                     }
-                    Ok(_) | Err(ConstraintError::OutsideHull { .. }) => {}
+                    Ok(_) => {}
                     Err(e) => return Err(e.into()),
                 }
             }

@@ -13,7 +13,9 @@
 //! its `dp`, but for one limit beyond the paper: a candidate's interpolated spacing is at least
 //! its distance to the element's nearest node over the grading limit (64), up to the coarsest
 //! spacing of the boundary, so that a small feature's spacing does not fill a whole domain
-//! whose elements touch only small features.
+//! whose elements touch only small features. An element is tested at the finest spacing a
+//! source asks anywhere in it, when finer than at its centroid (see `distance`): a source
+//! smaller than the elements and off their centroids was never seen.
 //! Insertion is constrained: a candidate never crosses or removes a boundary edge, and
 //! one that rounding put on a boundary edge or outside its region is refused. Passes end when
 //! one inserts nothing.
@@ -376,7 +378,13 @@ impl PointGeneration {
         } else {
             h
         };
-        let reach = self.alpha * h;
+        // A source may ask for finer spacing elsewhere in the element than at its centroid.
+        let test = if field.has_sources() {
+            h.min(field.finest_source_in(p))
+        } else {
+            h
+        };
+        let reach = self.alpha * test;
         let reach2 = reach * reach;
         // All three distances, then one branch (a branch per node went either way at random).
         let [n0, n1, n2] = d2.map(|d| d <= reach2);

@@ -22,7 +22,7 @@
 //! one's neighbour, and the count of points stays that of visiting the slots in order (which
 //! it was before, and which missed the cache on nearly every conflict test).
 
-use crate::{PointGenError, RENUMBER_MIN};
+use crate::{PointGenError, SpacingField3, RENUMBER_MIN};
 use delmesh_boundary_recovery::{Mesh3, OUTSIDE};
 use delmesh_delaunay_core::{CellId, Dim, VertexId, D3};
 use rayon::prelude::*;
@@ -105,21 +105,21 @@ impl fmt::Display for GenerationReport3 {
 }
 
 impl PointGeneration3 {
-    /// Fills the domain of `mesh` with points spaced as `spacing(p, from_nodes)` says, where
-    /// `from_nodes` is the mean of the tetrahedron's node values (the paper's interpolation);
-    /// `spacing(p, own)` is also asked once per existing node with the node's own value. New
-    /// nodes get their spacing in `mesh.spacing`. `spacing` is called from several threads
-    /// (the candidates of a pass are evaluated in parallel), so it must be `Sync`; the result
-    /// does not depend on the number of threads.
+    /// Fills the domain of `mesh` with points spaced as `field` says, given at a candidate the
+    /// mean of its tetrahedron's node values (the paper's interpolation) and at an existing
+    /// node its own value. A tetrahedron some source asks to be finer somewhere than at its
+    /// centroid is tested at that finer spacing (see `distance`). New nodes get their spacing
+    /// in `mesh.spacing`. The candidates of a pass are evaluated in parallel; the result does
+    /// not depend on the number of threads.
     ///
     /// # Errors
     /// A bad α, or a spacing that is not positive and finite.
     pub fn run(
         &self,
         mesh: &mut Mesh3,
-        spacing: impl Fn([f64; 3], f64) -> f64 + Sync,
+        field: &SpacingField3,
     ) -> Result<GenerationReport3, PointGenError> {
-        self.run_capped(mesh, spacing, &[])
+        self.run_capped(mesh, field, &[])
     }
 
     /// [`PointGeneration3::run`] with the spacing in each region (by region index, as cells
@@ -131,13 +131,13 @@ impl PointGeneration3 {
     pub fn run_capped(
         &self,
         mesh: &mut Mesh3,
-        spacing: impl Fn([f64; 3], f64) -> f64 + Sync,
+        field: &SpacingField3,
         region_caps: &[f64],
     ) -> Result<GenerationReport3, PointGenError> {
         if !(self.alpha > 0.0 && self.alpha.is_finite()) {
             return Err(PointGenError::BadAlpha(self.alpha));
         }
-        let mut dp = node_spacing3(mesh, &spacing)?;
+        let mut dp = node_spacing3(mesh, field)?;
         let largest = (0..mesh.ct.triangulation().num_vertices())
             .flat_map(|v| mesh.ct.triangulation().vertex(VertexId(v as u32)))
             .fold(0.0f64, |m, c| m.max(c.abs()));
@@ -157,7 +157,7 @@ impl PointGeneration3 {
                 .par_iter()
                 .with_min_len(1 << 10)
                 .map(|&c| {
-                    let (g, k) = self.candidate(mesh_now, c, dp_now, &spacing, region_caps, tiny);
+                    let (g, k) = self.candidate(mesh_now, c, dp_now, field, region_caps, tiny);
                     (frame.key(g) << 32 | u64::from(c.0), k)
                 })
                 .collect();
@@ -178,7 +178,7 @@ impl PointGeneration3 {
                 }
                 let replaced = made.get(c.index()).copied().unwrap_or(false);
                 let now = if replaced {
-                    self.candidate(mesh, c, &dp, &spacing, region_caps, tiny).1
+                    self.candidate(mesh, c, &dp, field, region_caps, tiny).1
                 } else {
                     early
                 };
@@ -256,7 +256,7 @@ impl PointGeneration3 {
         mesh: &Mesh3,
         c: CellId,
         dp: &[f64],
-        spacing: &impl Fn([f64; 3], f64) -> f64,
+        field: &SpacingField3,
         region_caps: &[f64],
         tiny: f64,
     ) -> ([f64; 3], Candidate3) {
@@ -272,7 +272,7 @@ impl PointGeneration3 {
         let p = [0, 1, 2, 3].map(|k| tri.vertex(v[k]));
         let g = [0, 1, 2].map(|k| 0.25 * (p[0][k] + p[1][k] + p[2][k] + p[3][k]));
         let from_nodes = 0.25 * v.iter().map(|u| dp[u.index()]).sum::<f64>();
-        let h = spacing(g, from_nodes);
+        let h = field.spacing(g, from_nodes);
         if !(h > 0.0 && h.is_finite()) {
             return (g, Candidate3::BadSpacing { value: h, at: g });
         }
@@ -280,7 +280,9 @@ impl PointGeneration3 {
             Some(&cap) => h.min(cap),
             None => h,
         };
-        let reach2 = (self.alpha * h) * (self.alpha * h);
+        // A source may ask for finer spacing elsewhere in the tetrahedron than at its centroid.
+        let test = h.min(field.finest_source_in(p));
+        let reach2 = (self.alpha * test) * (self.alpha * test);
         let dist2 = |q: [f64; 3]| {
             (q[0] - g[0]) * (q[0] - g[0])
                 + (q[1] - g[1]) * (q[1] - g[1])
@@ -368,10 +370,7 @@ fn set(values: &mut Vec<f64>, v: VertexId, x: f64) {
 /// The spacing at every vertex of the domain: the field's value there, given the vertex's own
 /// value (from the surface), or for vertices recovery gave none (external field points) the
 /// mean length of their edges in the domain.
-fn node_spacing3(
-    mesh: &mut Mesh3,
-    spacing: &impl Fn([f64; 3], f64) -> f64,
-) -> Result<Vec<f64>, PointGenError> {
+fn node_spacing3(mesh: &mut Mesh3, field: &SpacingField3) -> Result<Vec<f64>, PointGenError> {
     let tri = mesh.ct.triangulation();
     let n = tri.num_vertices();
     mesh.spacing.resize(n, f64::NAN);
@@ -399,7 +398,7 @@ fn node_spacing3(
         }
         if count[i] > 0 {
             let p = tri.vertex(VertexId(i as u32));
-            let h = spacing(p, mesh.spacing[i]);
+            let h = field.spacing(p, mesh.spacing[i]);
             if !(h > 0.0 && h.is_finite()) {
                 return Err(bad_spacing(h, p));
             }

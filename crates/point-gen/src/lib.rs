@@ -8,6 +8,7 @@
 //! makes sure no element is larger than its region's area limit ([`VolumeLimits`] in 3D).
 
 mod area;
+mod distance;
 mod generate;
 mod generate3;
 mod refine;

@@ -98,9 +98,8 @@ impl QualityRefinement {
                         inserted += 1;
                         added += 1;
                     }
+                    // (Also a circumcentre beyond the convex hull: refused like one outside.)
                     Ok(_) => {}
-                    // A circumcentre beyond the convex hull: refused like one outside.
-                    Err(delmesh_delaunay_core::ConstraintError::OutsideHull { .. }) => {}
                     Err(e) => return Err(e.into()),
                 }
             }

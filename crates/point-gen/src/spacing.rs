@@ -418,6 +418,51 @@ impl Adaptation {
     }
 }
 
+/// The most pieces [`graded_splits`] cuts an edge into (2^20).
+pub const MAX_SOURCE_PIECES: usize = 1 << 20;
+
+/// Where to split an edge `length` long so that each piece is no longer than the spacing
+/// `spacing_at(t)` (`t` in `[0, 1]` along the edge) anywhere along it, given that the spacing
+/// changes by at most `growth` per unit length: a step from `t` is the spacing there over
+/// `1 + growth`, so the spacing cannot fall below the step within it. A constant spacing
+/// (`growth` 0) gives `ceil(length / h)` equal pieces; otherwise a last piece under half the
+/// step before it is evened out with that one where the bound allows. The parameters in
+/// `(0, 1)`, increasing; at most [`MAX_SOURCE_PIECES`] pieces (equal ones if more were asked).
+pub fn graded_splits(length: f64, spacing_at: impl Fn(f64) -> f64, growth: f64) -> Vec<f64> {
+    let step = |t: f64| spacing_at(t) / (1.0 + growth) / length;
+    let mut ts = Vec::new();
+    let mut t = 0.0;
+    loop {
+        let s = step(t);
+        if s.is_nan() || s <= 0.0 {
+            return Vec::new();
+        }
+        if t + s >= 1.0 || ts.len() + 1 >= MAX_SOURCE_PIECES {
+            break;
+        }
+        t += s;
+        ts.push(t);
+    }
+    if ts.len() + 1 >= MAX_SOURCE_PIECES {
+        let n = MAX_SOURCE_PIECES;
+        return (1..n).map(|j| j as f64 / n as f64).collect();
+    }
+    let Some(&last) = ts.last() else {
+        return ts;
+    };
+    if growth == 0.0 {
+        // A constant spacing: n equal pieces, n the steps it takes to pass the end.
+        let n = ts.len() + 1;
+        return (1..n).map(|j| j as f64 / n as f64).collect();
+    }
+    let before = if ts.len() > 1 { ts[ts.len() - 2] } else { 0.0 };
+    let mid = 0.5 * (before + 1.0);
+    if 1.0 - last < 0.5 * (last - before) && 1.0 - mid <= step(mid).max(step(1.0)) {
+        *ts.last_mut().expect("a last point") = mid;
+    }
+    ts
+}
+
 /// An analytic source of fine spacing: `h0` within `radius` of a point or a segment,
 /// growing linearly at `growth` per unit distance beyond.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -449,15 +494,19 @@ impl Source {
 
     /// The spacing this source asks for at `p`.
     pub fn spacing(&self, p: [f64; 2]) -> f64 {
-        let (dx, dy) = (self.b[0] - self.a[0], self.b[1] - self.a[1]);
-        let len2 = dx * dx + dy * dy;
-        let t = if len2 > 0.0 {
-            (((p[0] - self.a[0]) * dx + (p[1] - self.a[1]) * dy) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let q = [self.a[0] + t * dx, self.a[1] + t * dy];
-        let d = (p[0] - q[0]).hypot(p[1] - q[1]);
+        let d = crate::distance::point_segment2(p, self.a, self.b);
+        self.h0 + self.growth * (d - self.radius).max(0.0)
+    }
+
+    /// The finest spacing this source asks for anywhere on the segment `a b`.
+    pub fn finest_on(&self, a: [f64; 2], b: [f64; 2]) -> f64 {
+        let d = crate::distance::segment_segment2(self.a, self.b, a, b);
+        self.h0 + self.growth * (d - self.radius).max(0.0)
+    }
+
+    /// The finest spacing this source asks for anywhere in the triangle `t`.
+    pub fn finest_in(&self, t: [[f64; 2]; 3]) -> f64 {
+        let d = crate::distance::segment_triangle2(self.a, self.b, t);
         self.h0 + self.growth * (d - self.radius).max(0.0)
     }
 }
@@ -535,6 +584,46 @@ impl SpacingField {
         matches!(self.base, Base::Boundary)
     }
 
+    /// Whether the field has sources.
+    #[inline]
+    pub fn has_sources(&self) -> bool {
+        !self.sources.is_empty()
+    }
+
+    /// The finest spacing the sources ask for anywhere in the triangle `t` (infinite without
+    /// sources).
+    pub fn finest_source_in(&self, t: [[f64; 2]; 3]) -> f64 {
+        self.sources
+            .iter()
+            .fold(f64::INFINITY, |h, s| h.min(s.finest_in(t)))
+    }
+
+    /// Where the sources ask for the boundary edge `a b` to be split (see [`graded_splits`];
+    /// empty if the edge is no longer than the spacing they ask anywhere on it), for
+    /// [`delmesh_boundary_recovery::BoundaryRecovery::with_segment_splits`]: generation cannot
+    /// fill the domain next to an edge finer than the edge, and thin elements pile up on it.
+    pub fn source_splits(&self, a: [f64; 2], b: [f64; 2]) -> Vec<f64> {
+        let length = (b[0] - a[0]).hypot(b[1] - a[1]);
+        let finest = self
+            .sources
+            .iter()
+            .fold(f64::INFINITY, |h, s| h.min(s.finest_on(a, b)));
+        if length.is_nan() || length <= finest {
+            return Vec::new();
+        }
+        let growth = self.sources.iter().fold(0.0f64, |g, s| g.max(s.growth));
+        graded_splits(
+            length,
+            |t| {
+                let p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+                self.sources
+                    .iter()
+                    .fold(f64::INFINITY, |h, s| h.min(s.spacing(p)))
+            },
+            growth,
+        )
+    }
+
     /// The spacing at `p`; `from_nodes` is the value interpolated from the element's nodes.
     pub fn spacing(&self, p: [f64; 2], from_nodes: f64) -> f64 {
         let base = match &self.base {
@@ -542,5 +631,42 @@ impl SpacingField {
             Base::Background(mesh) => mesh.spacing_at(p),
         };
         self.sources.iter().fold(base, |h, s| h.min(s.spacing(p)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_constant_spacing_gives_equal_pieces() {
+        assert_eq!(graded_splits(10.0, |_| 3.0, 0.0), [0.25, 0.5, 0.75]);
+        assert!(graded_splits(10.0, |_| 10.0, 0.0).is_empty());
+    }
+
+    #[test]
+    fn graded_pieces_are_no_longer_than_the_spacing_anywhere_along_them() {
+        // The boundary edge y = 0, x in [0, 10], of a square with a source in its corner.
+        let source = Source {
+            a: [0.5, 0.5],
+            b: [0.5, 0.5],
+            h0: 0.01,
+            radius: 1.0,
+            growth: 1.0,
+        };
+        let at = |t: f64| [10.0 * t, 0.0];
+        let ts = graded_splits(10.0, |t| source.spacing(at(t)), 1.0);
+        assert!(ts.len() > 100, "{}", ts.len());
+        let mut all = vec![0.0];
+        all.extend(&ts);
+        all.push(1.0);
+        for w in all.windows(2) {
+            assert!(w[0] < w[1]);
+            let piece = 10.0 * (w[1] - w[0]);
+            let finest = source.finest_on(at(w[0]), at(w[1]));
+            assert!(piece <= finest, "{w:?}: {piece} > {finest}");
+            // And not much finer than asked at its end nearer the source.
+            assert!(piece >= finest / 3.0, "{w:?}: {piece} for {finest}");
+        }
     }
 }

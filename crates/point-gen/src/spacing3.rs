@@ -708,6 +708,24 @@ impl Source3 {
         let d = dist(p, nearest_on_segment(p, self.a, self.b));
         self.h0 + self.growth * (d - self.radius).max(0.0)
     }
+
+    /// The finest spacing this source asks for anywhere on the segment `a b`.
+    pub fn finest_on_segment(&self, a: P, b: P) -> f64 {
+        let d = crate::distance::segment_segment3(self.a, self.b, a, b);
+        self.h0 + self.growth * (d - self.radius).max(0.0)
+    }
+
+    /// The finest spacing this source asks for anywhere on the triangle `t`.
+    pub fn finest_on_triangle(&self, t: [P; 3]) -> f64 {
+        let d = crate::distance::segment_triangle3(self.a, self.b, t);
+        self.h0 + self.growth * (d - self.radius).max(0.0)
+    }
+
+    /// The finest spacing this source asks for anywhere in the tetrahedron `t`.
+    pub fn finest_in(&self, t: [P; 4]) -> f64 {
+        let d = crate::distance::segment_tetrahedron(self.a, self.b, t);
+        self.h0 + self.growth * (d - self.radius).max(0.0)
+    }
 }
 
 /// Where the spacing comes from.
@@ -751,6 +769,14 @@ impl SpacingField3 {
     /// Whether the field uses the values interpolated from the tetrahedron's nodes.
     pub fn uses_node_values(&self) -> bool {
         matches!(self.base, Base3::Boundary)
+    }
+
+    /// The finest spacing the sources ask for anywhere in the tetrahedron `t` (infinite
+    /// without sources).
+    pub fn finest_source_in(&self, t: [P; 4]) -> f64 {
+        self.sources
+            .iter()
+            .fold(f64::INFINITY, |h, s| h.min(s.finest_in(t)))
     }
 
     /// The spacing at `p`; `from_nodes` is the value interpolated from the tetrahedron's nodes.

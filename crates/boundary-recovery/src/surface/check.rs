@@ -45,7 +45,7 @@ pub(crate) fn scaled_points(points: &[P], base: u64) -> Result<(f64, Vec<P>), Su
     let mut scaled = Vec::with_capacity(points.len());
     for (i, p) in points.iter().enumerate() {
         let q = p.map(|x| x * scale);
-        if let Some(k) = (0..3).find(|&k| q[k] != 0.0 && q[k].abs() < COORDINATE_RANGE.0) {
+        if let Some(k) = (0..3).find(|&k| p[k] != 0.0 && q[k].abs() < COORDINATE_RANGE.0) {
             return Err(range_error(i, p[k]));
         }
         scaled.push(q);

@@ -169,7 +169,8 @@ impl CheckedSurface {
         let q = p.map(|x| x * self.scale);
         let (tiny, huge) = delmesh_predicates::COORDINATE_RANGE;
         if q.iter()
-            .any(|x| x.abs() > huge || (*x != 0.0 && x.abs() < tiny))
+            .zip(p)
+            .any(|(x, x0)| x.abs() > huge || (x0 != 0.0 && x.abs() < tiny))
         {
             return None;
         }
@@ -193,7 +194,8 @@ impl CheckedSurface {
         let q = p.map(|x| x * self.scale);
         let (tiny, huge) = delmesh_predicates::COORDINATE_RANGE;
         if q.iter()
-            .any(|x| !x.is_finite() || x.abs() > huge || (*x != 0.0 && x.abs() < tiny))
+            .zip(p)
+            .any(|(x, x0)| !x.is_finite() || x.abs() > huge || (x0 != 0.0 && x.abs() < tiny))
         {
             return false;
         }
