@@ -13,6 +13,7 @@
 use crate::error::RecoveryError;
 use crate::plc3::Plc3;
 use delmesh_delaunay_core::{CellId, ConstrainedTriangulation3, Location, VertexId};
+use delmesh_predicates::{orient3d, Sign};
 
 pub(crate) use crate::classify::OUTSIDE;
 use crate::classify::{domain_tags, flood_fill};
@@ -34,16 +35,38 @@ pub(crate) fn classify3(
         Some(&|c, i| face_corners(tri.cell(c), i)),
     );
     let component = &components.of_cell;
-    let component_at = |ct: &mut ConstrainedTriangulation3, p: [f64; 3]| match ct.locate(p) {
-        Location::Cell(c) => Some(component[c.index()] as usize),
-        Location::Vertex(_) => None,
+    // The component at a seed: that of every cell whose closed tetrahedron holds it. A seed
+    // on a face, an edge or a vertex between two components does not say which one it means.
+    let base = u64::from(plc.first_index);
+    let component_at = |ct: &mut ConstrainedTriangulation3,
+                        p: [f64; 3],
+                        what: &'static str,
+                        k: usize|
+     -> Result<Option<usize>, RecoveryError> {
+        let at = match ct.locate(p) {
+            Location::Cell(c) => cells_holding(ct, c, p),
+            Location::Vertex(v) => ct.triangulation().cells_around_vertex(v),
+        };
+        let first = component[at[0].index()];
+        for c in at {
+            if component[c.index()] != first {
+                return Err(RecoveryError::SeedOnSurface {
+                    what,
+                    index: k as u64 + base,
+                    point: p,
+                });
+            }
+        }
+        Ok(Some(first as usize))
     };
-    let regions: Vec<_> = plc
-        .regions
-        .iter()
-        .map(|r| (component_at(ct, r.point), r.attribute))
-        .collect();
-    let holes: Vec<_> = plc.holes.iter().map(|&h| component_at(ct, h)).collect();
+    let mut regions = Vec::with_capacity(plc.regions.len());
+    for (k, r) in plc.regions.iter().enumerate() {
+        regions.push((component_at(ct, r.point, "region", k)?, r.attribute));
+    }
+    let mut holes = Vec::with_capacity(plc.holes.len());
+    for (k, &h) in plc.holes.iter().enumerate() {
+        holes.push(component_at(ct, h, "hole", k)?);
+    }
     let tri = ct.triangulation();
     let (tags, attributes) =
         domain_tags(&cells, &components, &regions, &holes, |c| tri.is_ghost(c))?;
@@ -51,6 +74,34 @@ pub(crate) fn classify3(
         ct.set_tag(c, tag);
     }
     Ok(attributes)
+}
+
+/// The cells whose closed tetrahedron holds `p`, found from `start` (one of them) across the
+/// faces `p` lies on (exactly): one cell, two across a face, a ring around an edge. A ghost
+/// cell is crossed only through its hull face.
+fn cells_holding(ct: &ConstrainedTriangulation3, start: CellId, p: [f64; 3]) -> Vec<CellId> {
+    let tri = ct.triangulation();
+    let mut found = vec![start];
+    let mut at = 0;
+    while at < found.len() {
+        let c = found[at];
+        at += 1;
+        let v = tri.cell(c);
+        for i in 0..4 {
+            let f = [1, 2, 3].map(|k| v[(i + k) % 4]);
+            if f.iter().any(|u| u.is_ghost()) {
+                continue;
+            }
+            let f = f.map(|u| tri.vertex(u));
+            if orient3d(f[0], f[1], f[2], p) == Sign::Zero {
+                let d = tri.neighbor_facet(c, i).cell();
+                if !found.contains(&d) {
+                    found.push(d);
+                }
+            }
+        }
+    }
+    found
 }
 
 /// The corners of the face of a tetrahedron (vertices `v`) opposite its vertex `i`, sorted.

@@ -73,8 +73,8 @@ pub enum RecoveryError {
     /// A hole or region seed lies on a segment (or at a vertex) between two parts of the domain,
     /// so it does not say which part it means.
     #[error(
-        "{what} {index} at ({}, {}) lies on a segment between two parts of the domain; move it \
-         inside the part it is meant for",
+        "{what} {index} at ({}, {}) lies on a segment between two parts of the domain (or \
+         between the domain and the outside); move it inside the part it is meant for",
         point[0],
         point[1]
     )]
@@ -85,6 +85,24 @@ pub enum RecoveryError {
         index: u64,
         /// Its coordinates.
         point: [f64; 2],
+    },
+    /// A hole or region seed lies on the surface (a face, an edge or a vertex) between two
+    /// parts of the domain, or between the domain and the outside, so it does not say which
+    /// part it means.
+    #[error(
+        "{what} {index} at ({}, {}, {}) lies on the surface between two parts of the domain \
+         (or between the domain and the outside); move it inside the part it is meant for",
+        point[0],
+        point[1],
+        point[2]
+    )]
+    SeedOnSurface {
+        /// "hole" or "region".
+        what: &'static str,
+        /// Its number.
+        index: u64,
+        /// Its coordinates.
+        point: [f64; 3],
     },
     /// The points cannot be triangulated (too few, all collinear, bad range).
     #[error(transparent)]

@@ -245,10 +245,7 @@ impl BoundaryRecovery {
     /// # Errors
     /// Invalid input (see [`RecoveryError`]), or a domain with no element inside.
     pub fn run(&self, plc: &Plc2) -> Result<Mesh2, RecoveryError> {
-        let checked = check(plc, self.method != RecoveryMethod::Constrained)?;
-        let n_input = checked.points.len();
-        let mut points = checked.points.clone();
-        points.extend_from_slice(&self.extra_points);
+        let n_input = plc.points.len();
         if let Some(i) = self
             .extra_points
             .iter()
@@ -258,6 +255,23 @@ impl BoundaryRecovery {
                 point: (n_input + i) as u64 + u64::from(plc.first_index),
             });
         }
+        // Extra points are checked with the input's: one inside a segment splits it there (it
+        // could never be recovered past it), one on an input point is merged with it.
+        let with_extra;
+        let all = if self.extra_points.is_empty() {
+            plc
+        } else {
+            let mut p = Plc2 {
+                points: Vec::with_capacity(n_input + self.extra_points.len()),
+                ..plc.clone()
+            };
+            p.points.extend_from_slice(&plc.points);
+            p.points.extend_from_slice(&self.extra_points);
+            with_extra = p;
+            &with_extra
+        };
+        let checked = check(all, self.method != RecoveryMethod::Constrained)?;
+        let points = checked.points.clone();
         let tri =
             Triangulation2::new(&points).map_err(|e| e.numbered_from(plc.first_index as usize))?;
         let base = u64::from(plc.first_index);

@@ -116,6 +116,21 @@ pub enum Error {
         /// Why it cannot be used.
         reason: String,
     },
+    /// A conforming 3D recovery (the default, or a-priori) stopped at its bound of added
+    /// points: said with the way out.
+    #[error(
+        "{0}; walls very close together need very many points in a conforming recovery: try \
+         the constrained one (--recovery constrained, RecoveryMethod3::Constrained)"
+    )]
+    ConformingRecovery(RecoveryError),
+    /// An option has a value it cannot take.
+    #[error("{option}: {reason}")]
+    BadOption {
+        /// The option (its command-line name).
+        option: &'static str,
+        /// Why.
+        reason: String,
+    },
     /// A spacing source (numbered from 1 in the order given) has a bad value, or asks for
     /// more elements than delmesh can index.
     #[error("source {number}: {reason}")]
@@ -188,6 +203,8 @@ impl Error {
             | Error::Smoothing(_)
             | Error::SurfaceSpacing { .. }
             | Error::Source { .. }
+            | Error::ConformingRecovery(_)
+            | Error::BadOption { .. }
             | Error::OutOfRange { .. }
             | Error::Internal(_) => None,
         }

@@ -76,7 +76,7 @@ struct MeshArgs {
     #[arg(long, value_enum, default_value = "stitch")]
     recovery: RecoveryArg,
     /// Point density: a candidate must be farther than alpha·spacing from the element's nodes.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     alpha: f64,
     /// Add at most this many points automatically.
     #[arg(long, value_name = "N")]
@@ -84,7 +84,12 @@ struct MeshArgs {
     /// 2D: the spacing interpolated from an element's nodes is at least the candidate's
     /// distance to them over R, so small holes or features grade out instead of filling the
     /// domain at their spacing; `inf` is the paper's interpolation as it is.
-    #[arg(long, value_name = "R", default_value_t = 64.0)]
+    #[arg(
+        long,
+        value_name = "R",
+        default_value_t = 64.0,
+        allow_negative_numbers = true
+    )]
     grading_limit: f64,
     /// No automatic points: mesh the boundary (and --points) only.
     #[arg(long)]
@@ -105,10 +110,10 @@ struct MeshArgs {
     #[arg(long, value_name = "NAME")]
     field: Option<String>,
     /// Smallest spacing of --adapt.
-    #[arg(long, value_name = "H")]
+    #[arg(long, value_name = "H", allow_negative_numbers = true)]
     min_spacing: Option<f64>,
     /// Largest spacing of --adapt.
-    #[arg(long, value_name = "H")]
+    #[arg(long, value_name = "H", allow_negative_numbers = true)]
     max_spacing: Option<f64>,
     /// A spacing source: spacing H0 within RADIUS of a point or a segment, growing by GROWTH
     /// per unit distance beyond; the spacing is the smallest of the field's and the sources'.
@@ -117,7 +122,7 @@ struct MeshArgs {
     #[arg(long, value_name = "SPEC", allow_hyphen_values = true)]
     source: Vec<String>,
     /// Smoothing relaxation factor ω (paper: 0.05–0.25; default 0.25 in 2D, 0.2 in 3D).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     omega: Option<f64>,
     /// Smoothing passes N (paper: 20–50; default 24 in 2D, 4 in 3D, where the Delaunay
     /// restoration that follows re-triangulates the points).
@@ -133,7 +138,7 @@ struct MeshArgs {
     /// 3D: at the end, flip away tetrahedra whose smallest dihedral angle is below DEG degrees
     /// (e.g. 10 or 15) where edge and face flips improve the worst element around them (beyond
     /// the paper; the mesh is then no longer Delaunay where flips were made).
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     sliver_flips: Option<f64>,
     /// 3D: no radius–edge refinement (circumcentres of tetrahedra whose circumradius exceeds
     /// twice their shortest edge) after point generation.
@@ -164,7 +169,7 @@ struct MeshArgs {
     /// plane, its boundary edges cut into equal pieces shared with the patch beyond (markers
     /// kept); the field points follow. For CAD surfaces (STL exports) whose long thin
     /// triangles otherwise make flat tetrahedra.
-    #[arg(long, value_name = "H")]
+    #[arg(long, value_name = "H", allow_negative_numbers = true)]
     surface_spacing: Option<f64>,
     /// Write the run's report (passes, quality, time per stage) as JSON.
     #[arg(long, value_name = "FILE.json")]
@@ -395,6 +400,19 @@ fn mesh(args: &MeshArgs) -> Result<()> {
     };
     if let Some(path) = &args.points {
         let pts = delmesh::io::read_points(path)?;
+        // Three columns are taken for a 2D mesh only in the plane z = 0 (as 2D meshes are
+        // often written); a z elsewhere would be dropped silently.
+        if pts.dim == 3 {
+            if let Some(i) = (0..pts.len()).find(|&i| pts.coords[3 * i + 2] != 0.0) {
+                anyhow::bail!(
+                    "{}: point {} has z = {}: the field points of a 2D mesh must be 2D (or \
+                     lie in the plane z = 0)",
+                    path.display(),
+                    i + pts.first_index as usize,
+                    pts.coords[3 * i + 2]
+                );
+            }
+        }
         options.extra_points = (0..pts.len()).map(|i| pts.point2(i)).collect();
     }
     options.generation = (!args.no_points).then(|| PointGeneration {

@@ -189,6 +189,15 @@ pub struct MeshRun3 {
 /// or a bad option.
 pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> {
     units::check_range(&plc.points, plc.first_index)?;
+    if let Some(d) = options
+        .sliver_flips
+        .filter(|d| !(d.is_finite() && *d >= 0.0))
+    {
+        return Err(Error::BadOption {
+            option: "--sliver-flips",
+            reason: format!("the angle must be a finite number of degrees, not negative (got {d})"),
+        });
+    }
     let sources = options.generation.is_some() && !options.sources.is_empty();
     if sources {
         check_sources3(&options.sources, &plc.points)?;
@@ -343,6 +352,11 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
                  --recovery constrained or a-priori, or a smaller spacing"
                 ),
             },
+            (e @ RecoveryError::SurfaceNotRecovered { .. }, None)
+                if options.recovery != RecoveryMethod3::Constrained =>
+            {
+                Error::ConformingRecovery(e)
+            }
             // The surface as given passed these checks (`mesh_plc3`).
             (e @ RecoveryError::Surface(_), Some(h)) => Error::SurfaceSpacing {
                 value: h,

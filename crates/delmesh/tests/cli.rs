@@ -976,3 +976,56 @@ fn a_binary_gmsh_surface_meshes_as_its_ascii_twin() {
     assert_eq!(a, b);
     assert!(a.contains("\"inlet\"") && a.contains("\"walls\""), "{a}");
 }
+
+#[test]
+fn field_points_on_a_segment_or_off_the_plane_and_bad_option_values() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("sq.poly"), SQUARE_POLY).unwrap();
+    std::fs::write(dir.path().join("cube.off"), cube_off(1.0)).unwrap();
+    // A field point inside a boundary segment splits it (it was "segment 1 could not be
+    // recovered after 0 splits"), in every recovery.
+    std::fs::write(dir.path().join("on.xy"), "2 0\n1 2\n2 2\n").unwrap();
+    for recovery in ["stitch", "a-priori", "constrained"] {
+        let out = delmesh(
+            dir.path(),
+            &[
+                "mesh",
+                "sq.poly",
+                "--points",
+                "on.xy",
+                "--recovery",
+                recovery,
+                "--validate",
+                "-o",
+                "on.ele",
+            ],
+        );
+        assert!(ok(&out).contains("validation: ok"), "{recovery}");
+        let node = std::fs::read_to_string(dir.path().join("on.node")).unwrap();
+        // The input's 8 points, then the field points in their order.
+        let ninth = node.lines().nth(9).unwrap();
+        assert!(
+            ninth.split_whitespace().skip(1).take(2).eq(["2", "0"]),
+            "{ninth}"
+        );
+    }
+    // Three columns for a 2D mesh: only in the plane z = 0.
+    std::fs::write(dir.path().join("z.xyz"), "2 2 0\n2 2.5 0.5\n").unwrap();
+    let msg = fails(&delmesh(
+        dir.path(),
+        &["mesh", "sq.poly", "--points", "z.xyz", "-o", "z.ele"],
+    ));
+    assert!(msg.contains("z.xyz: point 1 has z = 0.5"), "{msg}");
+    // Negative and NaN values reach the checks (clap took `-1` for an option).
+    for (args, why) in [
+        (["sq.poly", "--alpha", "-1"], "alpha must be positive"),
+        (["cube.off", "--sliver-flips", "nan"], "--sliver-flips"),
+        (["cube.off", "--sliver-flips", "-5"], "--sliver-flips"),
+    ] {
+        let mut all = vec!["mesh"];
+        all.extend(args);
+        all.extend(["-o", "bad.vtu"]);
+        let msg = fails(&delmesh(dir.path(), &all));
+        assert!(msg.contains(why), "{args:?}: {msg}");
+    }
+}

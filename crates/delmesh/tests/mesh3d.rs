@@ -1224,3 +1224,64 @@ fn a_corner_source_refines_the_surface_and_the_volume_next_to_it() {
     );
     check(&plc, &run, 1, true);
 }
+
+/// A hole or region seed exactly on the surface between two parts of the domain (on a wall's
+/// face, edge or corner) or between the domain and the outside does not say which part it
+/// means: an error naming it, as in 2D (a seed on a wall's edge deleted one cube silently, one
+/// on a wall's face was ignored, a region seed there given to no element).
+#[test]
+fn a_seed_on_the_surface_is_an_error() {
+    use delmesh::recovery::RegionSeed3;
+    let blocks = geometry3::blocks(2, 4);
+    for p in [
+        [1.0, 0.5, 0.5],
+        [1.0, 0.5, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.5, 0.5, 0.0],
+        [0.0, 0.0, 0.0],
+    ] {
+        let mut plc = blocks.clone();
+        plc.holes.push(p);
+        let Err(e) = mesh_plc3(&plc, &options(1.0)) else {
+            panic!("hole at {p:?} accepted");
+        };
+        let e = e.to_string();
+        let name = format!("hole {}", blocks.first_index);
+        assert!(
+            e.contains(&name) && e.contains("lies on the surface"),
+            "{p:?}: {e}"
+        );
+        let mut plc = blocks.clone();
+        plc.regions.push(RegionSeed3 {
+            point: p,
+            attribute: 7.0,
+            max_volume: None,
+        });
+        let Err(e) = mesh_plc3(&plc, &options(1.0)) else {
+            panic!("region seed at {p:?} accepted");
+        };
+        let e = e.to_string();
+        let name = format!(
+            "region {}",
+            blocks.regions.len() as u32 + blocks.first_index
+        );
+        assert!(
+            e.contains(&name) && e.contains("lies on the surface"),
+            "{p:?}: {e}"
+        );
+    }
+    // Just off the wall, the seed deletes its own cube.
+    let mut plc = blocks.clone();
+    plc.holes.push([1.0 + 1e-9, 0.5, 0.5]);
+    let run = mesh_plc3(&plc, &options(1.0)).unwrap();
+    let a = &run.arrays;
+    let volume: f64 = a
+        .tets
+        .iter()
+        .map(|t| {
+            let p = t.map(|i| a.coords[i as usize]);
+            tet_volume(p[0], p[1], p[2], p[3])
+        })
+        .sum();
+    assert!((volume - 1.0).abs() < 1e-12, "{volume}");
+}
