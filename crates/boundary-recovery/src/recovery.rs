@@ -261,11 +261,7 @@ impl BoundaryRecovery {
         let all = if self.extra_points.is_empty() {
             plc
         } else {
-            let mut p = Plc2 {
-                points: Vec::with_capacity(n_input + self.extra_points.len()),
-                ..plc.clone()
-            };
-            p.points.extend_from_slice(&plc.points);
+            let mut p = plc.clone();
             p.points.extend_from_slice(&self.extra_points);
             with_extra = p;
             &with_extra
@@ -364,9 +360,7 @@ impl BoundaryRecovery {
             history,
         })
     }
-}
 
-impl BoundaryRecovery {
     /// Splits the sub-segments `splits` (index, parameters) of a recovered boundary and
     /// recovers the pieces.
     fn split_and_recover(

@@ -7,6 +7,8 @@
 //! test therefore also uses the spacing the source asks for at the element's point nearest to
 //! it. These are constructions on spacing values, not topology: plain f64.
 
+use crate::spacing3::{cross, dist, dot, nearest_on_triangle, sub};
+
 type P2 = [f64; 2];
 type P3 = [f64; 3];
 
@@ -85,26 +87,6 @@ pub(crate) fn segment_triangle2(a: P2, b: P2, t: [P2; 3]) -> f64 {
     d
 }
 
-fn sub3(a: P3, b: P3) -> P3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot3(a: P3, b: P3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross3(a: P3, b: P3) -> P3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn norm3(a: P3) -> f64 {
-    dot3(a, a).sqrt()
-}
-
 fn along(a: P3, d: P3, t: f64) -> P3 {
     [a[0] + t * d[0], a[1] + t * d[1], a[2] + t * d[2]]
 }
@@ -112,18 +94,18 @@ fn along(a: P3, d: P3, t: f64) -> P3 {
 /// Distance between the segments `a b` and `c e` (either may be a point): the closest
 /// parameters, clamped to the segments.
 pub(crate) fn segment_segment3(a: P3, b: P3, c: P3, e: P3) -> f64 {
-    let (d1, d2, r) = (sub3(b, a), sub3(e, c), sub3(a, c));
-    let (aa, ee, f) = (dot3(d1, d1), dot3(d2, d2), dot3(d2, r));
+    let (d1, d2, r) = (sub(b, a), sub(e, c), sub(a, c));
+    let (aa, ee, f) = (dot(d1, d1), dot(d2, d2), dot(d2, r));
     let (s, t) = if aa == 0.0 && ee == 0.0 {
         (0.0, 0.0)
     } else if aa == 0.0 {
         (0.0, (f / ee).clamp(0.0, 1.0))
     } else {
-        let cc = dot3(d1, r);
+        let cc = dot(d1, r);
         if ee == 0.0 {
             ((-cc / aa).clamp(0.0, 1.0), 0.0)
         } else {
-            let bb = dot3(d1, d2);
+            let bb = dot(d1, d2);
             let denom = aa * ee - bb * bb;
             let s = if denom > 0.0 {
                 ((bb * f - cc * ee) / denom).clamp(0.0, 1.0)
@@ -140,44 +122,25 @@ pub(crate) fn segment_segment3(a: P3, b: P3, c: P3, e: P3) -> f64 {
             }
         }
     };
-    norm3(sub3(along(a, d1, s), along(c, d2, t)))
-}
-
-/// Distance from `p` to the triangle `t`.
-fn point_triangle3(p: P3, t: [P3; 3]) -> f64 {
-    let n = cross3(sub3(t[1], t[0]), sub3(t[2], t[0]));
-    let nn = dot3(n, n);
-    if nn > 0.0 {
-        // The projection of p on the plane is inside: the distance to the plane.
-        let inside = (0..3).all(|i| {
-            let edge = sub3(t[(i + 1) % 3], t[i]);
-            dot3(cross3(edge, sub3(p, t[i])), n) >= 0.0
-        });
-        if inside {
-            return dot3(sub3(p, t[0]), n).abs() / nn.sqrt();
-        }
-    }
-    (0..3)
-        .map(|i| segment_segment3(p, p, t[i], t[(i + 1) % 3]))
-        .fold(f64::INFINITY, f64::min)
+    dist(along(a, d1, s), along(c, d2, t))
 }
 
 /// Distance from the segment `a b` (a point if `a == b`) to the triangle `t`.
 pub(crate) fn segment_triangle3(a: P3, b: P3, t: [P3; 3]) -> f64 {
-    let n = cross3(sub3(t[1], t[0]), sub3(t[2], t[0]));
-    let (da, db) = (dot3(sub3(a, t[0]), n), dot3(sub3(b, t[0]), n));
+    let n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
+    let (da, db) = (dot(sub(a, t[0]), n), dot(sub(b, t[0]), n));
     if da * db <= 0.0 && da != db {
         // The segment meets the plane at x: inside the triangle, they meet.
-        let x = along(a, sub3(b, a), da / (da - db));
+        let x = along(a, sub(b, a), da / (da - db));
         let inside = (0..3).all(|i| {
-            let edge = sub3(t[(i + 1) % 3], t[i]);
-            dot3(cross3(edge, sub3(x, t[i])), n) >= 0.0
+            let edge = sub(t[(i + 1) % 3], t[i]);
+            dot(cross(edge, sub(x, t[i])), n) >= 0.0
         });
         if inside {
             return 0.0;
         }
     }
-    let mut d = point_triangle3(a, t).min(point_triangle3(b, t));
+    let mut d = dist(a, nearest_on_triangle(a, t)).min(dist(b, nearest_on_triangle(b, t)));
     for i in 0..3 {
         d = d.min(segment_segment3(a, b, t[i], t[(i + 1) % 3]));
     }
@@ -186,7 +149,7 @@ pub(crate) fn segment_triangle3(a: P3, b: P3, t: [P3; 3]) -> f64 {
 
 /// Whether `p` is in the closed tetrahedron `t` (either orientation).
 fn in_tetrahedron(p: P3, t: [P3; 4]) -> bool {
-    let volume = |a: P3, b: P3, c: P3, d: P3| dot3(sub3(b, a), cross3(sub3(c, a), sub3(d, a)));
+    let volume = |a: P3, b: P3, c: P3, d: P3| dot(sub(b, a), cross(sub(c, a), sub(d, a)));
     let s = [
         volume(p, t[1], t[2], t[3]),
         volume(t[0], p, t[2], t[3]),

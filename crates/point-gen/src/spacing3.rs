@@ -74,15 +74,15 @@ pub enum SpacingError3 {
 
 type P = [f64; 3];
 
-fn sub(a: P, b: P) -> P {
+pub(crate) fn sub(a: P, b: P) -> P {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
-fn dot(a: P, b: P) -> f64 {
+pub(crate) fn dot(a: P, b: P) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-fn cross(a: P, b: P) -> P {
+pub(crate) fn cross(a: P, b: P) -> P {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
@@ -90,13 +90,13 @@ fn cross(a: P, b: P) -> P {
     ]
 }
 
-fn dist(a: P, b: P) -> f64 {
+pub(crate) fn dist(a: P, b: P) -> f64 {
     let d = sub(a, b);
     dot(d, d).sqrt()
 }
 
 /// The point of segment `ab` nearest to `p`.
-fn nearest_on_segment(p: P, a: P, b: P) -> P {
+pub(crate) fn nearest_on_segment(p: P, a: P, b: P) -> P {
     let ab = sub(b, a);
     let len2 = dot(ab, ab);
     let t = if len2 > 0.0 {
@@ -109,7 +109,7 @@ fn nearest_on_segment(p: P, a: P, b: P) -> P {
 
 /// The point of triangle `abc` nearest to `p`: the projection onto its plane when that falls
 /// inside, else the nearest point of its edges.
-fn nearest_on_triangle(p: P, [a, b, c]: [P; 3]) -> P {
+pub(crate) fn nearest_on_triangle(p: P, [a, b, c]: [P; 3]) -> P {
     let n = cross(sub(b, a), sub(c, a));
     let nn = dot(n, n);
     if nn > 0.0 {
