@@ -308,12 +308,14 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
         },
     };
     let spaced;
+    let mut remeshed = false;
     let plc = if sizing.h != f64::INFINITY || !sizing.sources.is_empty() {
         let split = remesh_surface(plc, &sizing)?;
         lap("surface spacing", &mut timings);
         match split {
             Some(p) => {
                 spaced = p;
+                remeshed = true;
                 &spaced
             }
             None => plc,
@@ -358,13 +360,16 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
                 Error::ConformingRecovery(e)
             }
             // The surface as given passed these checks (`mesh_plc3`).
-            (e @ RecoveryError::Surface(_), Some(h)) => Error::SurfaceSpacing {
+            (e @ RecoveryError::Surface(_), Some(h)) if remeshed => Error::SurfaceSpacing {
                 value: h,
                 reason: format!(
                     "the surface split to it fails the surface checks (a bug in delmesh; \
                      without --surface-spacing the surface is meshed as given): {e}"
                 ),
             },
+            (e @ RecoveryError::Surface(_), None) if remeshed => Error::Internal(format!(
+                "the surface split for the spacing sources fails the surface checks: {e}"
+            )),
             (e, _) => e.into(),
         })?;
     // The surface next to a limited region is split to its spacing (see `surface_split`),

@@ -386,7 +386,19 @@ fn mesh_in_plane_with(
 /// # Errors
 /// Only if meshing a patch in its plane fails, which would be a bug.
 pub(crate) fn remesh_surface(plc: &Plc3, sizing: &SurfaceSizing) -> Result<Option<Plc3>, Error> {
-    let tris = &plc.triangles;
+    // Triangles on the first of each set of exactly equal points, as the surface checks merge
+    // them: an exporter that repeats points at seams gives the triangles on either side of an
+    // edge different corners, and each side would split its copy of the edge on its own.
+    let first = first_occurrences(&plc.points);
+    let tris: Vec<SurfaceTriangle> = plc
+        .triangles
+        .iter()
+        .map(|t| SurfaceTriangle {
+            v: t.v.map(|i| first[i as usize]),
+            ..*t
+        })
+        .collect();
+    let tris = &tris;
     let point = |i: u32| plc.points[i as usize];
     let key = |a: u32, b: u32| (a.min(b), a.max(b));
     // Which triangles have an edge longer than the spacing asked on them.
@@ -594,6 +606,20 @@ pub(crate) fn remesh_surface(plc: &Plc3, sizing: &SurfaceSizing) -> Result<Optio
         }
     }
     Ok(Some(out))
+}
+
+/// For each point, the first point with exactly its coordinates (-0 read as +0).
+fn first_occurrences(points: &[[f64; 3]]) -> Vec<u32> {
+    let key = |i: u32| points[i as usize].map(|x| (x + 0.0).to_bits());
+    let mut order: Vec<u32> = (0..points.len() as u32).collect();
+    order.sort_unstable_by_key(|&i| (key(i), i));
+    let mut first: Vec<u32> = (0..points.len() as u32).collect();
+    for same in order.chunk_by(|&i, &j| key(i) == key(j)) {
+        for &i in same {
+            first[i as usize] = same[0];
+        }
+    }
+    first
 }
 
 fn triangle_area(p: [[f64; 3]; 3]) -> f64 {

@@ -790,6 +790,50 @@ fn a_surface_spacing_remeshes_a_cad_cylinder_patch_by_patch() {
 }
 
 #[test]
+fn a_surface_spacing_remeshes_a_surface_written_with_its_points_repeated() {
+    // As STL (and some OFF exporters, CGAL's boeing among them) write it: every triangle with
+    // its own copies of its corners. The copies are merged before meshing; the remeshing must
+    // see the edges they share too, or each side splits its copy of an edge on its own and
+    // the split surface is open.
+    let n = 16;
+    let mut indexed = cad_cylinder(n, 2.0);
+    for p in &mut indexed.points {
+        // Off the axes, so that an edge's points computed from either end differ by rounding.
+        let (c, s) = (0.6f64.cos(), 0.6f64.sin());
+        *p = [
+            0.1 + c * p[0] - s * p[2],
+            0.3 + p[1] / 3.0,
+            0.7 + s * p[0] + c * p[2],
+        ];
+    }
+    let mut plc = Plc3 {
+        points: Vec::new(),
+        triangles: Vec::new(),
+        ..indexed.clone()
+    };
+    for (k, t) in indexed.triangles.iter().enumerate() {
+        // Each triangle starts at a different corner, so a shared edge runs from its lower
+        // numbered end in one copy and from the other end in the other.
+        let v = [0, 1, 2].map(|j| t.v[(j + k) % 3]);
+        let base = plc.points.len() as u32;
+        plc.points.extend(v.map(|i| indexed.points[i as usize]));
+        plc.triangles.push(SurfaceTriangle {
+            v: [base, base + 1, base + 2],
+            ..*t
+        });
+    }
+    for recovery in RECOVERIES {
+        let spaced = MeshOptions3 {
+            surface_spacing: Some(0.2),
+            ..MeshOptions3::default()
+        };
+        let run = mesh_with(&plc, recovery, spaced);
+        assert!(run.arrays.faces.len() > 4 * indexed.triangles.len());
+        check_merged_cylinder(&plc, n, run, recovery != RecoveryMethod3::Constrained);
+    }
+}
+
+#[test]
 fn a_turned_single_precision_cad_cylinder_is_merged_to_its_own_rounding() {
     // As binary STL writes it: turned into a general position and rounded to single precision,
     // its flat faces are flat only to 2^-24 or so. Nothing else recovers it within the bound;
