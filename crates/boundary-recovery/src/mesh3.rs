@@ -69,7 +69,9 @@ pub struct MeshArrays3 {
     pub point_markers: Vec<i32>,
     /// Whether each vertex is on the boundary surface: smoothing keeps these fixed.
     pub on_boundary: Vec<bool>,
-    /// Boundary triangles, oriented like the input surface triangles they subdivide.
+    /// Boundary triangles. Each on the boundary of the domain faces out of it (its normal by
+    /// the right-hand rule points away from its element, as solvers expect); one between two
+    /// parts of the domain (an internal wall) is oriented like the input triangle it subdivides.
     pub faces: Vec<[u32; 3]>,
     /// Marker of each boundary triangle.
     pub face_markers: Vec<i32>,
@@ -492,10 +494,30 @@ impl Mesh3 {
             out.regions
                 .push(self.region_attributes.get(tag).copied().unwrap_or(0.0));
         }
+        // The corner opposite each face of the output's boundary, in its one element: a
+        // boundary face there is turned to face out of the domain.
+        let mut inside_of: HashMap<[u32; 3], u32> = HashMap::new();
+        for (t, n) in out.tets.iter().zip(&out.neighbours) {
+            for k in 0..4 {
+                if n[k] == u32::MAX {
+                    let mut f = [t[(k + 1) % 4], t[(k + 2) % 4], t[(k + 3) % 4]];
+                    f.sort_unstable();
+                    inside_of.insert(f, t[k]);
+                }
+            }
+        }
         for f in &self.faces {
-            let t = f.v.map(|v| number[v.index()]);
+            let mut t = f.v.map(|v| number[v.index()]);
             if t.contains(&u32::MAX) {
                 continue; // a face between two exterior regions
+            }
+            let mut key = t;
+            key.sort_unstable();
+            if let Some(&o) = inside_of.get(&key) {
+                let p = t.map(|k| out.coords[k as usize]);
+                if orient3d(p[0], p[1], p[2], out.coords[o as usize]) == Sign::Positive {
+                    t.swap(1, 2);
+                }
             }
             out.faces.push(t);
             out.face_markers.push(f.marker);

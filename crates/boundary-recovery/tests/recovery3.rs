@@ -201,7 +201,10 @@ fn plane_key(p: [[f64; 3]; 3], marker: i32) -> (i32, [i64; 4]) {
     let n = n.map(|x| x / l);
     let d = n[0] * p[0][0] + n[1] * p[0][1] + n[2] * p[0][2];
     let r = |x: f64| (x * 1e6).round() as i64;
-    (marker, [r(n[0]), r(n[1]), r(n[2]), r(d)])
+    // The plane whichever way the triangle turns (faces on the domain's boundary face out).
+    let key = [r(n[0]), r(n[1]), r(n[2]), r(d)];
+    let first = key[..3].iter().copied().find(|&x| x != 0).unwrap_or(0);
+    (marker, if first < 0 { key.map(|x| -x) } else { key })
 }
 
 /// Everything a recovered mesh must satisfy, with the given coverage of the input.
@@ -235,15 +238,37 @@ fn check_with(plc: &Plc3, mesh: &Mesh3, volume: f64, coverage: Coverage) {
         (v - volume).abs() <= 1e-9 * volume.abs(),
         "volume {v} vs enclosed {volume}"
     );
-    // Every facet is the union of its boundary faces: same area, same orientation.
+    // Every facet is the union of its boundary faces: same area. A face on the domain's
+    // boundary faces out of its element; one inside it (a wall) as the input facet does.
     let mut by_facet: HashMap<u32, f64> = HashMap::new();
     let mut triangle_of: HashMap<u32, usize> = HashMap::new();
     for (k, t) in plc.triangles.iter().enumerate() {
         triangle_of.entry(t.facet).or_insert(k);
     }
+    let mut inside_of: HashMap<[u32; 3], u32> = HashMap::new();
+    for (t, n) in arrays.tets.iter().zip(&arrays.neighbours) {
+        for k in 0..4 {
+            if n[k] == u32::MAX {
+                let mut f = [t[(k + 1) % 4], t[(k + 2) % 4], t[(k + 3) % 4]];
+                f.sort_unstable();
+                inside_of.insert(f, t[k]);
+            }
+        }
+    }
     for (t, &f) in arrays.faces.iter().zip(&arrays.face_facets) {
         let p = t.map(|i| arrays.coords[i as usize]);
         *by_facet.entry(f).or_default() += area(p[0], p[1], p[2]);
+        let mut key = *t;
+        key.sort_unstable();
+        if let Some(&o) = inside_of.get(&key) {
+            let q = arrays.coords[o as usize];
+            assert_eq!(
+                orient3d(p[0], p[1], p[2], q),
+                Sign::Negative,
+                "face {t:?} faces into the domain"
+            );
+            continue;
+        }
         // Orientation agrees with the input facet's normal.
         let q = plc.triangles[triangle_of[&f]]
             .v

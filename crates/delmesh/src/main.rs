@@ -7,7 +7,7 @@
 //! malformed input) and exits with status 1; command-line usage errors are clap's (status 2).
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Result;
@@ -361,7 +361,7 @@ fn mesh(args: &MeshArgs) -> Result<()> {
     for out in &args.output {
         check_output_dir(out)?;
     }
-    check_not_input(&args.input, &args.output)?;
+    check_mesh_files(args)?;
     let is_poly = args
         .input
         .extension()
@@ -636,6 +636,100 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
         eprintln!("validation: ok");
     }
     write_mesh_outputs(args, |out| Ok(run.write(out)?), &run.report_json())
+}
+
+/// The files `delmesh mesh -o out` may write: the TetGen and Triangle families write three
+/// files beside each other, a 3D `.vtu` its boundary beside it.
+fn mesh_output_files(out: &Path) -> Vec<PathBuf> {
+    let ext = out
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    match ext.as_str() {
+        "ele" | "node" | "face" => ["node", "ele", "edge", "face"]
+            .iter()
+            .map(|e| out.with_extension(e))
+            .collect(),
+        "vtu" => vec![out.to_path_buf(), out.with_extension("boundary.vtu")],
+        _ => vec![out.to_path_buf()],
+    }
+}
+
+/// The `.node` file beside a `.poly` or `.smesh` file whose point section is empty (its points
+/// are read from there).
+fn node_companion(input: &Path) -> Option<PathBuf> {
+    let ext = input.extension()?.to_str()?.to_ascii_lowercase();
+    if ext != "poly" && ext != "smesh" {
+        return None;
+    }
+    let text = std::fs::read_to_string(input).ok()?;
+    let first = text
+        .lines()
+        .map(|l| l.split('#').next().unwrap_or("").trim())
+        .find(|l| !l.is_empty())?;
+    (first.split_whitespace().next() == Some("0")).then(|| input.with_extension("node"))
+}
+
+/// Checks, before meshing, that no file `delmesh mesh` would write is one it reads (the
+/// domain, the `.node` file its points are in, `--points`, `--background` with its `.node`,
+/// `--adapt`), and that no two outputs are the same file: either would lose data silently.
+fn check_mesh_files(args: &MeshArgs) -> Result<()> {
+    let mut inputs = vec![args.input.clone()];
+    inputs.extend(node_companion(&args.input));
+    inputs.extend(args.points.iter().cloned());
+    for field in [&args.background, &args.adapt].into_iter().flatten() {
+        inputs.push(field.clone());
+        if field
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("ele"))
+        {
+            inputs.push(field.with_extension("node"));
+        }
+    }
+    // Each file written, with the option that names it.
+    let mut outputs: Vec<(PathBuf, &Path)> = args
+        .output
+        .iter()
+        .flat_map(|o| {
+            mesh_output_files(o)
+                .into_iter()
+                .map(move |f| (f, o.as_path()))
+        })
+        .collect();
+    outputs.extend(args.report.iter().map(|r| (r.clone(), r.as_path())));
+    let files: Vec<PathBuf> = outputs.iter().map(|(f, _)| f.clone()).collect();
+    for input in &inputs {
+        check_not_input(input, &files)?;
+    }
+    // The same file named twice (an output that does not exist yet: by its folder and name).
+    let key = |p: &Path| -> PathBuf {
+        if let Ok(real) = p.canonicalize() {
+            return real;
+        }
+        let dir = p
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        match (dir.canonicalize(), p.file_name()) {
+            (Ok(d), Some(name)) => d.join(name),
+            _ => p.to_path_buf(),
+        }
+    };
+    let mut seen: Vec<(PathBuf, &Path)> = Vec::with_capacity(outputs.len());
+    for (file, named_by) in outputs {
+        let k = key(&file);
+        if let Some((_, first)) = seen.iter().find(|(s, _)| *s == k) {
+            anyhow::bail!(
+                "{}: written by both {} and {}; choose different output names",
+                file.display(),
+                first.display(),
+                named_by.display()
+            );
+        }
+        seen.push((k, named_by));
+    }
+    Ok(())
 }
 
 /// Writes `delmesh mesh`'s outputs (each `-o` by `write`, then `--report`) and lists them.

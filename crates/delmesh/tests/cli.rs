@@ -477,6 +477,58 @@ fn outputs_never_overwrite_the_input() {
 }
 
 #[test]
+fn mesh_outputs_never_overwrite_what_the_run_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A .poly whose points are in the .node beside it, extra points, and a report.
+    std::fs::write(d.join("sq.node"), "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n").unwrap();
+    std::fs::write(
+        d.join("sq.poly"),
+        "0 2 0 0\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n",
+    )
+    .unwrap();
+    std::fs::write(d.join("p.node"), "1 2 0 0\n1 0.5 0.5\n").unwrap();
+    let read = |f: &str| std::fs::read(d.join(f)).unwrap();
+    let before: Vec<Vec<u8>> = ["sq.node", "sq.poly", "p.node"].map(read).to_vec();
+    for (args, culprit) in [
+        (
+            &["-o", "sq.ele"][..],
+            "sq.node: writing this file would overwrite the input",
+        ),
+        (
+            &["--points", "p.node", "-o", "p.ele"][..],
+            "p.node: writing",
+        ),
+        (
+            &["-o", "m.vtu", "--report", "sq.poly"][..],
+            "sq.poly: writing",
+        ),
+        (
+            &["-o", "m.ele", "--report", "m.node"][..],
+            "m.node: written by both m.ele and m.node",
+        ),
+        (
+            &["-o", "m.vtu", "-o", "./m.vtu"][..],
+            "written by both m.vtu and ./m.vtu",
+        ),
+    ] {
+        let mut all = vec!["mesh", "sq.poly"];
+        all.extend_from_slice(args);
+        let msg = fails(&delmesh(d, &all));
+        assert!(msg.contains(culprit), "{args:?}: {msg}");
+        assert!(!d.join("m.vtu").exists() && !d.join("m.ele").exists());
+    }
+    assert_eq!(["sq.node", "sq.poly", "p.node"].map(read).to_vec(), before);
+    // Running again over its own outputs is fine.
+    for _ in 0..2 {
+        ok(&delmesh(
+            d,
+            &["mesh", "sq.poly", "-o", "out.ele", "--report", "r.json"],
+        ));
+    }
+}
+
+#[test]
 fn validate_flag_checks_the_result() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("grid.node");
