@@ -120,7 +120,14 @@ impl Dim for D2 {
         let (cx, cy) = (c[0] - a[0], c[1] - a[1]);
         let b2 = bx * bx + by * by;
         let c2 = cx * cx + cy * cy;
-        let d = 2.0 * (bx * cy - by * cx);
+        // The denominator from the exact sign's evaluation where rounding could decide it
+        // (nearly collinear points: the plain value can be 0, and the centre NaN).
+        let (l, r) = (bx * cy, by * cx);
+        let mut det = l - r;
+        if det.abs() <= 3.4e-16 * (l.abs() + r.abs()) {
+            det = pred::orient2d_value(a, b, c);
+        }
+        let d = 2.0 * det;
         [
             a[0] + (cy * b2 - by * c2) / d,
             a[1] + (bx * c2 - cx * b2) / d,
@@ -189,7 +196,15 @@ impl Dim for D3 {
             ]
         };
         let (ce, eb, bc) = (cross(c, e), cross(e, b), cross(b, c));
-        let det = 2.0 * dot(b, ce);
+        let mut det = dot(b, ce);
+        // As in 2D: nearly coplanar points take the exact sign's evaluation.
+        let permanent = b[0].abs() * ((c[1] * e[2]).abs() + (c[2] * e[1]).abs())
+            + b[1].abs() * ((c[2] * e[0]).abs() + (c[0] * e[2]).abs())
+            + b[2].abs() * ((c[0] * e[1]).abs() + (c[1] * e[0]).abs());
+        if det.abs() <= 8e-16 * permanent {
+            det = pred::orient3d_value(p[0], p[1], p[2], p[3]);
+        }
+        let det = 2.0 * det;
         let (b2, c2, e2) = (dot(b, b), dot(c, c), dot(e, e));
         let mut r = [0.0; 3];
         for k in 0..3 {

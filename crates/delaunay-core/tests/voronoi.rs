@@ -101,3 +101,32 @@ fn bounded_3d_regions_have_equidistant_faces() {
         }
     }
 }
+
+#[test]
+fn nearly_collinear_and_coplanar_points_have_finite_circumcentres() {
+    // (0.1 i, 0.3 i) rounded: collinear in exact arithmetic only by rounding, so every
+    // triangle is a sliver whose floating-point determinant can come out 0 (a NaN centre).
+    let pts: Vec<[f64; 2]> = (0..100)
+        .map(|i| [0.1 * f64::from(i), 0.3 * f64::from(i)])
+        .collect();
+    let t = Triangulation2::new(&pts).unwrap();
+    let vd = VoronoiDiagram::new(&t);
+    assert!(!vd.is_empty());
+    for i in 0..vd.len() {
+        let c = vd.circumcenter(i);
+        assert!(c.iter().all(|x| x.is_finite()), "{i}: {c:?}");
+    }
+    // The same in 3D: a 30 × 30 grid on the plane z = 0.3 y, rounded off it.
+    let pts: Vec<[f64; 3]> = (0..900)
+        .map(|k| {
+            let (i, j) = (f64::from(k / 30), f64::from(k % 30));
+            [0.1 * i, 0.1 * j, 0.03 * j]
+        })
+        .collect();
+    let t = Triangulation3::new(&pts).expect("not coplanar in floating point");
+    let vd = VoronoiDiagram::new(&t);
+    for i in 0..vd.len() {
+        let c = vd.circumcenter(i);
+        assert!(c.iter().all(|x| x.is_finite()), "{i}: {c:?}");
+    }
+}

@@ -113,6 +113,22 @@ pub fn incircle(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> Sign {
     Sign::of(robust::incircle(c2(a), c2(b), c2(c), c2(d)))
 }
 
+/// The value of the determinant [`orient2d`] decides the sign of, `(b − a) × (c − a)`, to
+/// nearly full relative precision and with the exact sign (robust's adaptive evaluation, which
+/// returns its exact expansion's largest component): for constructions that divide by it, such
+/// as a circumcentre, where the plain floating-point value can be 0 or of the wrong sign for
+/// nearly collinear points.
+pub fn orient2d_value(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    robust::orient2d(c2(a), c2(b), c2(c))
+}
+
+/// The value of the determinant [`orient3d`] decides the sign of, `(b − a) · ((c − a) × (d − a))`,
+/// as [`orient2d_value`] gives it in 2D.
+pub fn orient3d_value(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> f64 {
+    // robust's orientation is the opposite of ours.
+    -robust::orient3d(c3(a), c3(b), c3(c), c3(d))
+}
+
 /// In-sphere test: [`Sign::Positive`] if `e` lies strictly inside the sphere through
 /// `a, b, c, d`, [`Sign::Negative`] if strictly outside, [`Sign::Zero`] if on it.
 ///

@@ -37,7 +37,7 @@ mod exact;
 mod integer;
 mod sos;
 
-pub use exact::{incircle, insphere, orient2d, orient3d};
+pub use exact::{incircle, insphere, orient2d, orient2d_value, orient3d, orient3d_value};
 pub use sos::{
     incircle_lex, incircle_sos, incircle_tiebreak, insphere_lex, insphere_sos, insphere_tiebreak,
     Lex,
