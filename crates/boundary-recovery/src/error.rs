@@ -149,8 +149,8 @@ pub enum RecoveryError {
     Surface(#[from] crate::surface::SurfaceError),
     /// After removing the exterior and the holes nothing is left.
     #[error(
-        "no element is inside the domain: the segments must form closed loops around it \
-         (or check the hole seeds)"
+        "no element is inside the domain: every part of it is outside the boundary (in 2D the \
+         segments must form closed loops around it) or in a hole (check the hole seeds)"
     )]
     EmptyDomain,
 }

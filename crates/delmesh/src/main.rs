@@ -78,7 +78,8 @@ struct MeshArgs {
     /// Point density: a candidate must be farther than alpha·spacing from the element's nodes.
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     alpha: f64,
-    /// Add at most this many points automatically.
+    /// Add at most this many points inside the domain automatically (generation and quality
+    /// refinement together; the points recovery puts on the boundary are not counted).
     #[arg(long, value_name = "N")]
     max_points: Option<usize>,
     /// 2D: the spacing interpolated from an element's nodes is at least the candidate's

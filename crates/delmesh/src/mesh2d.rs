@@ -186,7 +186,8 @@ fn mesh_plc_as_given(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Err
             let report = settings.run(&mut mesh, &field)?;
             lap("point generation", &mut timings);
             if let Some(refinement) = &options.refinement {
-                refined = refinement.run(&mut mesh)?;
+                let budget = settings.max_points.saturating_sub(report.points_added());
+                refined = refinement.run_capped(&mut mesh, budget)?;
                 lap("quality refinement", &mut timings);
             }
             if let (Some(limits), Some(n)) = (&limits, &mut area_limited) {

@@ -418,7 +418,8 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
             let report = settings.run_capped(&mut mesh, &field, &caps)?;
             lap("point generation", &mut timings);
             if let Some(refinement) = &options.refinement {
-                refined = refinement.run(&mut mesh)?;
+                let budget = settings.max_points.saturating_sub(report.points_added());
+                refined = refinement.run_capped(&mut mesh, budget)?;
                 lap("quality refinement", &mut timings);
             }
             if let (Some(limits), Some(n)) = (&limits, &mut volume_limited) {

@@ -554,3 +554,34 @@ fn a_small_alpha_fills_a_square_with_a_hole() {
     check_run(&run, &plc, "alpha 0.01");
     assert!(run.arrays.coords.len() > 10_000);
 }
+
+#[test]
+fn max_points_bounds_generation_and_refinement_together() {
+    use delmesh::point_gen::{PointGeneration, Source};
+    let mut plc = Plc2::default();
+    square_loop(&mut plc, 0.0, 1.0, 1, false);
+    let source = Source {
+        a: [0.5, 0.5],
+        b: [0.5, 0.5],
+        h0: 0.01,
+        radius: 0.1,
+        growth: 0.1,
+    };
+    for max_points in [0, 10, 100] {
+        let options = MeshOptions2 {
+            sources: vec![source],
+            generation: Some(PointGeneration {
+                max_points,
+                ..PointGeneration::default()
+            }),
+            ..MeshOptions2::default()
+        };
+        let run = mesh_plc(&plc, &options).unwrap();
+        let added = run.generation.as_ref().unwrap().points_added() + run.refined;
+        assert!(
+            added <= max_points,
+            "{added} added with a budget of {max_points}"
+        );
+        check_run(&run, &plc, "budget");
+    }
+}

@@ -49,6 +49,8 @@ pub fn read_vtu(path: &Path) -> Result<FieldMesh, IoError> {
             message: other.to_string(),
         },
     };
+    // vtkio wraps a missing or unreadable file in an XML error: say it plainly.
+    std::fs::File::open(path).map_err(|e| IoError::io(path, e))?;
     let vtk = Vtk::import(path).map_err(vtk_err)?;
     let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
         return Err(IoError::invalid(path, "not an unstructured grid (.vtu)"));
@@ -127,7 +129,15 @@ pub fn read_vtu(path: &Path) -> Result<FieldMesh, IoError> {
                 continue;
             };
             if comps == 0 || values.len() != comps * n_points {
-                continue;
+                return Err(IoError::invalid(
+                    path,
+                    format!(
+                        "point field '{}' has {} values for {n_points} points of {comps} \
+                         component(s)",
+                        array.name,
+                        values.len()
+                    ),
+                ));
             }
             if comps == 1 {
                 point_fields.push((array.name, values));

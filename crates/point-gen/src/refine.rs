@@ -48,8 +48,17 @@ impl QualityRefinement {
     /// # Errors
     /// Only if an insertion fails, which would be a bug.
     pub fn run(&self, mesh: &mut Mesh2) -> Result<usize, PointGenError> {
+        self.run_capped(mesh, usize::MAX)
+    }
+
+    /// [`Self::run`], adding at most `max_points` points (what is left of a run's budget).
+    ///
+    /// # Errors
+    /// As [`Self::run`].
+    pub fn run_capped(&self, mesh: &mut Mesh2, max_points: usize) -> Result<usize, PointGenError> {
         let bound = self.min_angle.to_radians().sin();
-        let cap = (mesh.cdt.triangulation().num_vertices() as f64 * self.max_growth) as usize;
+        let cap = ((mesh.cdt.triangulation().num_vertices() as f64 * self.max_growth) as usize)
+            .min(max_points);
         let mut added = 0;
         let skinny = |mesh: &Mesh2, c| {
             let tri = mesh.cdt.triangulation();

@@ -58,7 +58,16 @@ impl QualityRefinement3 {
     /// # Errors
     /// A coordinate the triangulation cannot take (a bug if it ever fires).
     pub fn run(&self, mesh: &mut Mesh3) -> Result<usize, PointGenError> {
-        let cap = (mesh.ct.triangulation().num_vertices() as f64 * self.max_growth) as usize;
+        self.run_capped(mesh, usize::MAX)
+    }
+
+    /// [`Self::run`], adding at most `max_points` points (what is left of a run's budget).
+    ///
+    /// # Errors
+    /// As [`Self::run`].
+    pub fn run_capped(&self, mesh: &mut Mesh3, max_points: usize) -> Result<usize, PointGenError> {
+        let cap = ((mesh.ct.triangulation().num_vertices() as f64 * self.max_growth) as usize)
+            .min(max_points);
         let mut added = 0;
         let mut cells: Vec<CellId> = mesh.elements().collect();
         let mut next: Vec<CellId> = Vec::new();
