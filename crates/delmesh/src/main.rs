@@ -65,6 +65,9 @@ struct MeshArgs {
     /// The domain: a Triangle .poly file (points, segments with markers, holes, regions with
     /// attributes and area limits, honoured when points are generated), or a
     /// closed 3D surface triangulation (.smesh, 3D .poly, .off, .stl, .obj, .mesh, .msh).
+    /// Unlike Triangle, closed loops (surfaces) nested in each other alternate between domain
+    /// and hole from the outside in, so a body inside a far field needs no hole seed; a
+    /// region seed keeps the part it lies in.
     #[arg(value_name = "INPUT")]
     input: PathBuf,
     /// Output file(s), by extension. 2D: .vtu (ParaView), .ele (Triangle .node/.ele/.edge with
