@@ -1608,7 +1608,17 @@ impl<'a> State<'a> {
             } else {
                 missing
             };
-            for (s, k) in splitting_order(missing) {
+            // After flips (a constrained recovery), in segment order: the random rounds gave
+            // cheese (`--recovery constrained --merge-coplanar --no-points`) two degenerate
+            // boundary faces, a fault of the flipped mesh not found yet.
+            let order = if self.constrained {
+                let mut m = missing;
+                m.reverse();
+                m
+            } else {
+                splitting_order(missing)
+            };
+            for (s, k) in order {
                 self.split_subsegment(s as usize, k as usize)?;
                 history.edge_points += 1;
             }
