@@ -1608,9 +1608,9 @@ impl<'a> State<'a> {
             } else {
                 missing
             };
-            // After flips (a constrained recovery), in segment order: the random rounds gave
-            // cheese (`--recovery constrained --merge-coplanar --no-points`) two degenerate
-            // boundary faces, a fault of the flipped mesh not found yet.
+            // After flips (a constrained recovery), in segment order: with random rounds,
+            // cheese (`--recovery constrained --merge-coplanar --no-points`) ended with three
+            // Steiner points in no element of the domain, a fault not found yet.
             let order = if self.constrained {
                 let mut m = missing;
                 m.reverse();
@@ -1968,10 +1968,14 @@ impl<'a> State<'a> {
                     let Some(&j) = by_edge.get(&(w, u)) else {
                         continue;
                     };
+                    // The neighbour runs w → u; its third corner y must be a fourth point.
                     let o = subfaces[j];
-                    let m = (0..3).find(|&m| o[m] == w).unwrap_or(0);
+                    let Some(m) = (0..3).find(|&m| o[m] == w && o[(m + 1) % 3] == u) else {
+                        continue;
+                    };
                     let y = o[(m + 2) % 3];
                     if j == i
+                        || y == x
                         || on_one_edge(&on_edges, [u, y, x])
                         || on_one_edge(&on_edges, [y, w, x])
                         || !is_tetrahedron(
@@ -1985,7 +1989,11 @@ impl<'a> State<'a> {
                     }
                     // y is on the side of (u, w, x)'s normal (the facet's) when positive.
                     let p = [u, w, x, y].map(|z| self.ct.triangulation().vertex(z));
-                    let above = orient3d(p[0], p[1], p[2], p[3]) == Sign::Positive;
+                    let side = orient3d(p[0], p[1], p[2], p[3]);
+                    if side == Sign::Zero {
+                        continue;
+                    }
+                    let above = side == Sign::Positive;
                     let inside = if above { s > 0.0 } else { s < 0.0 };
                     if inside && budget > 0 {
                         budget -= 1;
