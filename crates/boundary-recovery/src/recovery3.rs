@@ -1608,17 +1608,7 @@ impl<'a> State<'a> {
             } else {
                 missing
             };
-            // After flips (a constrained recovery), in segment order: with random rounds,
-            // cheese (`--recovery constrained --merge-coplanar --no-points`) ended with three
-            // Steiner points in no element of the domain, a fault not found yet.
-            let order = if self.constrained {
-                let mut m = missing;
-                m.reverse();
-                m
-            } else {
-                splitting_order(missing)
-            };
-            for (s, k) in order {
+            for (s, k) in splitting_order(missing) {
                 self.split_subsegment(s as usize, k as usize)?;
                 history.edge_points += 1;
             }
@@ -1952,6 +1942,7 @@ impl<'a> State<'a> {
             }
             let mut subfaces = std::mem::take(&mut self.facs[f].subfaces);
             let on_edges = self.boundary_edges_at(f);
+            let coords = self.facet_frame_coords(f);
             // The sub-faces by their directed edges; a pair shares an edge run both ways.
             let mut by_edge: HashMap<(VertexId, VertexId), usize> = HashMap::new();
             for (k, &t) in subfaces.iter().enumerate() {
@@ -1995,7 +1986,21 @@ impl<'a> State<'a> {
                     }
                     let above = side == Sign::Positive;
                     let inside = if above { s > 0.0 } else { s < 0.0 };
-                    if inside && budget > 0 {
+                    // The quadrilateral u y w x must be convex in the facet's plane, or the
+                    // new sub-faces would fold over each other.
+                    let convex = match (
+                        coords.get(&u),
+                        coords.get(&w),
+                        coords.get(&x),
+                        coords.get(&y),
+                    ) {
+                        (Some(&cu), Some(&cw), Some(&cx), Some(&cy)) => {
+                            orient2d(cu, cy, cx) == Sign::Positive
+                                && orient2d(cy, cw, cx) == Sign::Positive
+                        }
+                        _ => false,
+                    };
+                    if inside && convex && budget > 0 {
                         budget -= 1;
                         for k in [i, j] {
                             for e in directed_edges(subfaces[k]) {
