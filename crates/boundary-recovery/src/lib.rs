@@ -53,7 +53,7 @@ pub use recovery3::{
     RecoveryStep,
 };
 pub use surface::{
-    check_surface, CheckedSurface, EdgeName, Junction, Listed, PointLocation, PointOnTriangle,
-    PolygonFacet, SurfaceComponent, SurfaceEdge, SurfaceError, TriangleName, TrianglePair,
-    VertexName,
+    check_surface, first_occurrences, CheckedSurface, EdgeName, Junction, Listed, PointLocation,
+    PointOnTriangle, PolygonFacet, SurfaceComponent, SurfaceEdge, SurfaceError, TriangleName,
+    TrianglePair, VertexName,
 };

@@ -115,6 +115,16 @@ fn nearly_collinear_and_coplanar_points_have_finite_circumcentres() {
     for i in 0..vd.len() {
         let c = vd.circumcenter(i);
         assert!(c.iter().all(|x| x.is_finite()), "{i}: {c:?}");
+        // Far away, but equidistant from its three points (the denominator's sign is right).
+        let d: Vec<f64> = vd
+            .forming_points(i)
+            .iter()
+            .map(|&k| (pts[k as usize][0] - c[0]).hypot(pts[k as usize][1] - c[1]))
+            .collect();
+        assert!(
+            d.iter().all(|r| (r - d[0]).abs() <= 1e-6 * d[0]),
+            "{i}: {d:?}"
+        );
     }
     // The same in 3D: a 30 × 30 grid on the plane z = 0.3 y, rounded off it.
     let pts: Vec<[f64; 3]> = (0..900)

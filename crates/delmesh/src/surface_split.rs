@@ -15,7 +15,9 @@
 
 use std::collections::HashMap;
 
-use delmesh_boundary_recovery::{Mesh3, Plc2, Plc3, RecoveryMethod, Segment, SurfaceTriangle};
+use delmesh_boundary_recovery::{
+    first_occurrences, Mesh3, Plc2, Plc3, RecoveryMethod, Segment, SurfaceTriangle,
+};
 use delmesh_delaunay_core::VertexId;
 use delmesh_point_gen::{graded_splits, PointGeneration, Source, Source3};
 use rayon::prelude::*;
@@ -606,20 +608,6 @@ pub(crate) fn remesh_surface(plc: &Plc3, sizing: &SurfaceSizing) -> Result<Optio
         }
     }
     Ok(Some(out))
-}
-
-/// For each point, the first point with exactly its coordinates (-0 read as +0).
-fn first_occurrences(points: &[[f64; 3]]) -> Vec<u32> {
-    let key = |i: u32| points[i as usize].map(|x| (x + 0.0).to_bits());
-    let mut order: Vec<u32> = (0..points.len() as u32).collect();
-    order.sort_unstable_by_key(|&i| (key(i), i));
-    let mut first: Vec<u32> = (0..points.len() as u32).collect();
-    for same in order.chunk_by(|&i, &j| key(i) == key(j)) {
-        for &i in same {
-            first[i as usize] = same[0];
-        }
-    }
-    first
 }
 
 fn triangle_area(p: [[f64; 3]; 3]) -> f64 {

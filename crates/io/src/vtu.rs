@@ -129,15 +129,7 @@ pub fn read_vtu(path: &Path) -> Result<FieldMesh, IoError> {
                 continue;
             };
             if comps == 0 || values.len() != comps * n_points {
-                return Err(IoError::invalid(
-                    path,
-                    format!(
-                        "point field '{}' has {} values for {n_points} points of {comps} \
-                         component(s)",
-                        array.name,
-                        values.len()
-                    ),
-                ));
+                continue;
             }
             if comps == 1 {
                 point_fields.push((array.name, values));

@@ -221,6 +221,28 @@ mod tests {
     use super::*;
 
     #[test]
+    fn orientation_values_have_the_exact_sign() {
+        // Nearly collinear / coplanar: the plain determinant rounds to 0 or the wrong sign.
+        for i in 1..200 {
+            let t = f64::from(i);
+            let (a, b, c) = (
+                [0.0, 0.0],
+                [0.1 * t, 0.3 * t],
+                [0.1 * (t + 1.0), 0.3 * (t + 1.0)],
+            );
+            let v = orient2d_value(a, b, c);
+            assert_eq!(Sign::of(v), orient2d(a, b, c), "{t}");
+            let d3 = |p: [f64; 2]| [p[0], p[1], 0.3 * p[1]];
+            let e = [0.7 * t, 0.2, 0.06];
+            let w = orient3d_value(d3(a), d3(b), d3(c), e);
+            assert_eq!(Sign::of(w), orient3d(d3(a), d3(b), d3(c), e), "{t}");
+        }
+        assert!(orient2d_value([0.0, 0.0], [1.0, 0.0], [0.0, 1.0]) > 0.0);
+        let (o, x, y, z) = ([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]);
+        assert_eq!(orient3d_value(o, x, y, z), 1.0);
+    }
+
+    #[test]
     fn orient2d_convention() {
         assert_eq!(orient2d([0.0, 0.0], [1.0, 0.0], [0.0, 1.0]), Sign::Positive);
         assert_eq!(orient2d([0.0, 0.0], [0.0, 1.0], [1.0, 0.0]), Sign::Negative);

@@ -53,6 +53,21 @@ pub(crate) fn scaled_points(points: &[P], base: u64) -> Result<(f64, Vec<P>), Su
     Ok((scale, scaled))
 }
 
+/// For each point, the first point with exactly its coordinates (found by sorting the
+/// coordinates' bits, -0 read as +0): the point each exact duplicate is merged into.
+pub fn first_occurrences(points: &[[f64; 3]]) -> Vec<u32> {
+    let key = |i: u32| points[i as usize].map(|x| (x + 0.0).to_bits());
+    let mut order: Vec<u32> = (0..points.len() as u32).collect();
+    order.sort_unstable_by_key(|&i| (key(i), i));
+    let mut first: Vec<u32> = (0..points.len() as u32).collect();
+    for same in order.chunk_by(|&i, &j| key(i) == key(j)) {
+        for &i in same {
+            first[i as usize] = same[0];
+        }
+    }
+    first
+}
+
 /// Checks that `plc` is a set of closed, orientable, non-intersecting triangle surfaces,
 /// orients each consistently, and finds their edges, volumes and nesting.
 ///
@@ -144,17 +159,8 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
         });
     }
 
-    // Merge exact duplicates: each maps to its first occurrence (sorting by the coordinates'
-    // bits, -0 read as +0).
-    let key = |i: usize| plc.points[i].map(|x| (x + 0.0).to_bits());
-    let mut order: Vec<u32> = (0..n_input as u32).collect();
-    order.sort_unstable_by_key(|&i| (key(i as usize), i));
-    let mut first = vec![0u32; n_input];
-    for same in order.chunk_by(|&i, &j| key(i as usize) == key(j as usize)) {
-        for &i in same {
-            first[i as usize] = same[0];
-        }
-    }
+    // Merge exact duplicates: each maps to its first occurrence.
+    let first = first_occurrences(&plc.points);
     let mut vertex_of_input = vec![0u32; n_input];
     let mut input_index = Vec::new();
     let mut merged = Vec::new();

@@ -20,7 +20,7 @@ mod intersect;
 mod polygon;
 mod volume;
 
-pub use check::check_surface;
+pub use check::{check_surface, first_occurrences};
 pub use error::{
     EdgeName, Listed, PointOnTriangle, SurfaceError, TriangleName, TrianglePair, VertexName,
 };
