@@ -356,7 +356,7 @@ impl ConstrainedTriangulation3 {
             let cell = slots[q];
             let mut v = s.v;
             v[k] = e;
-            self.tri.simplices[cell.index()].v = v;
+            self.tri.set_cell_vertices(cell, v);
             for (r, &l) in face.iter().enumerate() {
                 if l != k {
                     self.tri.simplices[cell.index()].n[l] = FacetRef::new(slots[r], k);
@@ -428,7 +428,7 @@ impl ConstrainedTriangulation3 {
             let other = edge[1 - q];
             let mut v = s.v;
             v[x] = e;
-            self.tri.simplices[cell.index()].v = v;
+            self.tri.set_cell_vertices(cell, v);
             self.tri.simplices[cell.index()].n[other] = FacetRef::new(slots[1 - q], x);
             let end = s.v[x];
             let (in_t, in_w) = (local(&t.v, end), local(&w.v, end));
@@ -444,8 +444,7 @@ impl ConstrainedTriangulation3 {
             self.tri.link(FacetRef::new(slots[q], k), w.n[in_w]);
         }
         // Free the third cell.
-        self.tri.simplices[u.index()].v[0] = VertexId::DEAD;
-        self.tri.free.push(u);
+        self.tri.release_cell(u);
         self.protected[u.index()] = 0;
         for (q, &x) in edge.iter().enumerate() {
             // Each end of the edge stays only in the cell that kept it.

@@ -713,12 +713,11 @@ impl ConstrainedTriangulation3 {
         }
         self.grow_cell_data();
         for &c in old.iter().skip(new.len()) {
-            self.tri.simplices[c.index()].v[0] = VertexId::DEAD;
+            self.tri.release_cell(c);
             self.protected[c.index()] = 0;
-            self.tri.free.push(c);
         }
         for (k, v) in new.iter().enumerate() {
-            self.tri.simplices[cells[k].index()].v = *v;
+            self.tri.set_cell_vertices(cells[k], *v);
             self.protected[cells[k].index()] = 0;
             self.tags[cells[k].index()] = tag;
         }

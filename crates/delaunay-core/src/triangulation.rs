@@ -195,8 +195,11 @@ pub struct Triangulation<D: Dim> {
     pub(crate) duplicates: Vec<(usize, usize)>,
     /// Vertices and neighbours of each cell, side by side so one cache line holds both.
     pub(crate) simplices: Vec<Simplex>,
-    /// Free cell slots.
+    /// Free cell slots (exactly the slots whose first vertex is `DEAD`).
     pub(crate) free: Vec<CellId>,
+    /// Live ghost cells (hull facets): kept as cells are made and freed, so that counting the
+    /// finite cells costs nothing (recovery records it after every round).
+    pub(crate) ghosts: usize,
     /// One cell containing each vertex.
     pub(crate) incident: Vec<CellId>,
     /// Scratch: each vertex's local number in the current cavity (see `local_id`).
@@ -343,6 +346,7 @@ impl<D: Dim> Triangulation<D> {
             duplicates: Vec::new(),
             simplices: Vec::with_capacity(n_cells),
             free: Vec::new(),
+            ghosts: 0,
             incident: Vec::with_capacity(n),
             local: Vec::with_capacity(n),
             bulk: true,
@@ -1072,9 +1076,8 @@ impl<D: Dim> Triangulation<D> {
     fn fill_cavity(&mut self) {
         let mut cavity = std::mem::take(&mut self.cavity);
         for &c in &cavity.cells {
-            self.simplices[c.index()].v[0] = VertexId::DEAD;
+            self.release_cell(c);
             self.mark[c.index()] = UNSEEN;
-            self.free.push(c);
         }
         for b in &cavity.boundary {
             self.mark[b.outside.cell().index()] = UNSEEN;
@@ -1254,6 +1257,7 @@ impl<D: Dim> Triangulation<D> {
 
     #[inline]
     pub(crate) fn alloc_cell(&mut self, verts: &[VertexId]) -> CellId {
+        self.ghosts += usize::from(verts.contains(&VertexId::GHOST));
         if let Some(c) = self.free.pop() {
             self.simplices[c.index()].v[..D::C].copy_from_slice(verts);
             return c;
@@ -1270,6 +1274,24 @@ impl<D: Dim> Triangulation<D> {
         self.simplices.push(simplex);
         self.mark.push(0);
         c
+    }
+
+    /// Gives live cell `c` the vertices `v` (a flip reusing its slot).
+    #[inline]
+    pub(crate) fn set_cell_vertices(&mut self, c: CellId, v: [VertexId; 4]) {
+        let s = &mut self.simplices[c.index()];
+        let ghost = |v: &[VertexId]| usize::from(v.contains(&VertexId::GHOST));
+        self.ghosts = self.ghosts + ghost(&v[..D::C]) - ghost(&s.v[..D::C]);
+        s.v = v;
+    }
+
+    /// Frees live cell `c`'s slot for reuse.
+    #[inline]
+    pub(crate) fn release_cell(&mut self, c: CellId) {
+        let s = &mut self.simplices[c.index()];
+        self.ghosts -= usize::from(s.v[..D::C].contains(&VertexId::GHOST));
+        s.v[0] = VertexId::DEAD;
+        self.free.push(c);
     }
 
     // ----- queries -----
@@ -1292,12 +1314,12 @@ impl<D: Dim> Triangulation<D> {
 
     /// Number of finite cells (triangles or tetrahedra).
     pub fn num_cells(&self) -> usize {
-        self.cells().count()
+        self.simplices.len() - self.free.len() - self.ghosts
     }
 
     /// Number of facets on the convex hull (edges in 2D, triangles in 3D).
     pub fn num_hull_facets(&self) -> usize {
-        self.all_cells().filter(|&c| self.is_ghost(c)).count()
+        self.ghosts
     }
 
     /// The coordinates of vertex `v` (the caller's, exactly).

@@ -93,6 +93,13 @@ impl<D: Dim> Triangulation<D> {
                 return Err(ValidationError::Incidence { vertex: v as u32 });
             }
         }
+        if self.ghosts != n_ghost || self.num_cells() != n_finite {
+            return Err(ValidationError::Euler(format!(
+                "{n_finite} finite and {n_ghost} hull cells, counted as {} and {}",
+                self.num_cells(),
+                self.ghosts
+            )));
+        }
         self.check_euler(n, n_finite, n_ghost)
     }
 
