@@ -51,6 +51,20 @@ pub enum Error {
         /// The dimension found.
         dim: usize,
     },
+    /// A background or adaptation mesh whose dimension is not the domain's.
+    #[error(
+        "{file}: a {dim}D mesh, but the domain is {expected}D (a background or adaptation mesh \
+         must have the domain's dimension)",
+        file = .file.display()
+    )]
+    MeshDimension {
+        /// The mesh file.
+        file: PathBuf,
+        /// Its dimension.
+        dim: usize,
+        /// The domain's.
+        expected: usize,
+    },
     /// An output file would replace the input file (e.g. `pts.node -o pts.ele`, which writes
     /// `pts.node`).
     #[error(
@@ -191,6 +205,7 @@ impl Error {
             Error::Triangulation { file, .. }
             | Error::UnsupportedFormat { file, .. }
             | Error::Dimension { file, .. }
+            | Error::MeshDimension { file, .. }
             | Error::Input { file, .. } => Some(file),
             Error::OverwritesInput { output, .. } => Some(output),
             Error::Spacing { file, .. }

@@ -547,9 +547,10 @@ fn read_field(path: &Path, field: &str) -> Result<FieldData, Error> {
         }
     };
     if mesh.dim != 2 {
-        return Err(Error::Dimension {
+        return Err(Error::MeshDimension {
             file: path.to_path_buf(),
             dim: mesh.dim,
+            expected: 2,
         });
     }
     let values = point_field(&mesh, field, path)?;

@@ -1238,9 +1238,10 @@ fn read_field3(path: &Path, field: &str) -> Result<FieldData3, Error> {
     }
     let mesh = delmesh_io::read_vtu(path)?;
     if mesh.dim != 3 {
-        return Err(Error::Dimension {
+        return Err(Error::MeshDimension {
             file: path.to_path_buf(),
             dim: mesh.dim,
+            expected: 3,
         });
     }
     let values = crate::mesh2d::point_field(&mesh, field, path)?;
