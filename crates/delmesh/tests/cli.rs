@@ -911,6 +911,36 @@ fn mesh_3d_with_a_background_mesh_and_adaptation() {
         ],
     ));
     assert!(msg.contains("nope") && msg.contains("bg.vtu"), "{msg}");
+    // A spacing far too fine for any mesh ends the run with a message, in 3D and 2D.
+    let tiny = [1e-300; 8];
+    delmesh::io::write_vtu(
+        &dir.path().join("tiny.vtu"),
+        &mesh,
+        &[("spacing", &tiny)],
+        &[],
+    )
+    .unwrap();
+    let square = delmesh::io::SimplexMesh {
+        dim: 2,
+        coords: &[-1.0, -1.0, 11.0, -1.0, -1.0, 11.0],
+        cells: &[0, 1, 2],
+        neighbors: None,
+    };
+    delmesh::io::write_vtu(
+        &dir.path().join("tiny2.vtu"),
+        &square,
+        &[("spacing", &tiny[..3])],
+        &[],
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("sq.poly"), SQUARE_POLY).unwrap();
+    for (domain, bg) in [("cube.off", "tiny.vtu"), ("sq.poly", "tiny2.vtu")] {
+        let msg = fails(&delmesh(
+            dir.path(),
+            &["mesh", domain, "--background", bg, "-o", "x.vtu"],
+        ));
+        assert!(msg.contains("2^30") && msg.contains("1.000e-300"), "{msg}");
+    }
     // A 2D background for the 3D domain, and the 3D one for a 2D domain: named as such.
     let square = delmesh::io::SimplexMesh {
         dim: 2,
@@ -926,7 +956,6 @@ fn mesh_3d_with_a_background_mesh_and_adaptation() {
         &[],
     )
     .unwrap();
-    std::fs::write(dir.path().join("sq.poly"), SQUARE_POLY).unwrap();
     for (domain, bg, dims) in [
         ("cube.off", "bg2.vtu", "2D mesh, but the domain is 3D"),
         ("sq.poly", "bg.vtu", "3D mesh, but the domain is 2D"),

@@ -89,6 +89,18 @@ pub enum PointGenError {
         /// Tetrahedra it asks for at least.
         elements: f64,
     },
+    /// The spacing field asks for more elements than the mesh's 32-bit indices hold.
+    #[error(
+        "the spacing field asks for {} elements (spacing down to {spacing:.3e}), more than \
+         delmesh can index (2^30); give a larger (minimum) spacing",
+        about(*.elements)
+    )]
+    SpacingTooFine {
+        /// Elements the candidates of one pass ask for, at least about.
+        elements: f64,
+        /// The finest spacing among them.
+        spacing: f64,
+    },
     /// A 3D candidate could not be inserted (a bad coordinate).
     #[error(transparent)]
     Insertion3(#[from] delmesh_delaunay_core::TriangulationError),
@@ -105,6 +117,31 @@ pub enum PointGenError {
 /// neighbour links span more than 4096 cell slots). Renumbering costs a few sweeps over the
 /// mesh (0.08 s at 900,000 triangles); smaller meshes fit in the cache.
 pub const RENUMBER_MIN: usize = 1 << 16;
+
+/// "about 1.2e9", or "more than 1e308" for a count that overflowed.
+fn about(n: f64) -> String {
+    if n.is_finite() {
+        format!("about {n:.1e}")
+    } else {
+        "more than 1e308".to_string()
+    }
+}
+
+/// The area of triangle `c`.
+fn area(tri: &delmesh_delaunay_core::Triangulation<D2>, c: CellId) -> f64 {
+    let v = tri.cell(c);
+    let p = [tri.vertex(v[0]), tri.vertex(v[1]), tri.vertex(v[2])];
+    0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]))
+        .abs()
+}
+
+/// Equilateral triangles of side `h` in `area`.
+fn triangles_in(area: f64, h: f64) -> f64 {
+    area / (0.25 * 3f64.sqrt() * h * h)
+}
+
+/// The most elements point generation makes: as many as 32-bit indices hold, with room.
+pub(crate) const MAX_ELEMENTS: f64 = (1u64 << 30) as f64;
 
 /// Settings of automatic point generation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -223,6 +260,10 @@ impl PointGeneration {
         let mut cells = elements_where(mesh, |_| true);
         // The element count at the last renumbering (see `RENUMBER_MIN`).
         let mut renumbered = elements;
+        let domain_area: f64 = {
+            let tri = mesh.cdt.triangulation();
+            cells.par_iter().map(|&c| area(tri, c)).sum()
+        };
         while report.passes.len() < self.max_passes && added < self.max_points {
             let previous = mesh.cdt.changed_in_epoch();
             let epoch = mesh.cdt.next_epoch(true);
@@ -269,6 +310,24 @@ impl PointGeneration {
                             y: at[1],
                         });
                     }
+                }
+            }
+            // The elements the candidates' spacing asks for in their own elements: more than can
+            // be indexed (a spacing of 1e-300 in a background mesh) ends the run now rather
+            // than when memory runs out. Summed only when the finest spacing could ask for
+            // that many over the whole domain.
+            let finest = todo.iter().fold(f64::INFINITY, |m, t| m.min(t.2));
+            if triangles_in(domain_area, finest) > MAX_ELEMENTS {
+                let tri = mesh.cdt.triangulation();
+                let asked: f64 = todo
+                    .par_iter()
+                    .map(|&(key, _, h, _)| triangles_in(area(tri, CellId(key as u32)), h))
+                    .sum();
+                if asked > MAX_ELEMENTS {
+                    return Err(PointGenError::SpacingTooFine {
+                        elements: asked,
+                        spacing: finest,
+                    });
                 }
             }
             // (Sorting (key, position) pairs instead moves less memory in the sort, but the

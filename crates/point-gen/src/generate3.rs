@@ -146,6 +146,10 @@ impl PointGeneration3 {
         let mut report = GenerationReport3::default();
         let mut added = 0usize;
         let mut cells: Vec<CellId> = mesh.elements().collect();
+        let domain_volume: f64 = {
+            let tri = mesh.ct.triangulation();
+            cells.par_iter().map(|&c| volume(tri, c)).sum()
+        };
         // The cell slots made in the current pass (a slot freed and reused counts once).
         let mut made: Vec<bool> = Vec::new();
         while report.passes.len() < self.max_passes && added < self.max_points {
@@ -167,6 +171,29 @@ impl PointGeneration3 {
             // whose tetrahedron an earlier insertion of this pass replaced (cavities reuse
             // their own slots, so the new one is there or nearby) is looked at as it is now.
             looked.par_sort_unstable_by_key(|t| t.0);
+            // As in 2D: a spacing asking for more elements than can be indexed ends the run.
+            let finest = looked.iter().fold(f64::INFINITY, |m, t| match t.1 {
+                Candidate3::At { h, .. } => m.min(h),
+                _ => m,
+            });
+            if tetrahedra_in(domain_volume, finest) > crate::generate::MAX_ELEMENTS {
+                let tri = mesh.ct.triangulation();
+                let asked: f64 = looked
+                    .par_iter()
+                    .filter_map(|&(key, k)| match k {
+                        Candidate3::At { h, .. } => {
+                            Some(tetrahedra_in(volume(tri, CellId(key as u32)), h))
+                        }
+                        _ => None,
+                    })
+                    .sum();
+                if asked > crate::generate::MAX_ELEMENTS {
+                    return Err(PointGenError::SpacingTooFine {
+                        elements: asked,
+                        spacing: finest,
+                    });
+                }
+            }
             let (mut accepted, mut refused) = (0, 0);
             for &(key, early) in &looked {
                 if added >= self.max_points {
@@ -349,6 +376,22 @@ impl Frame3 {
             [0, 1, 2].map(|k| ((p[k] - self.lo[k]) * self.scale).clamp(0.0, Self::CELLS) as u32);
         D3::hilbert_key(&q)
     }
+}
+
+/// The volume of tetrahedron `c`.
+fn volume(tri: &delmesh_delaunay_core::Triangulation<D3>, c: CellId) -> f64 {
+    let v = tri.cell(c);
+    let p = [0, 1, 2, 3].map(|i| tri.vertex(v[i]));
+    let d = |i: usize| [0, 1, 2].map(|a| p[i][a] - p[0][a]);
+    let (a, b, c) = (d(1), d(2), d(3));
+    let six = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+        + a[2] * (b[0] * c[1] - b[1] * c[0]);
+    six.abs() / 6.0
+}
+
+/// Regular tetrahedra of edge `h` in `volume`.
+fn tetrahedra_in(volume: f64, h: f64) -> f64 {
+    volume / (h * h * h / (6.0 * 2f64.sqrt()))
 }
 
 fn bad_spacing(value: f64, p: [f64; 3]) -> PointGenError {
