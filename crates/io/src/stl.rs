@@ -79,7 +79,8 @@ pub fn parse_stl(bytes: &[u8], file: &Path) -> Result<SurfaceFile, IoError> {
 
 /// The binary solids the file is made of, as (offset of the block's header, triangle count),
 /// when their headers and counts cover the file (one block for an ordinary file). Fewer bytes
-/// than a header after the last block are padding some writers add, and ignored; a file
+/// than a header after the last block are padding some writers add, and ignored, but for
+/// exactly one triangle's 50 (a count one short, an error); a file
 /// whose only header counts 0 triangles but whose size is that of whole triangles holds
 /// those (a writer that never went back to fill the count in).
 fn binary_blocks(bytes: &[u8]) -> Option<Vec<(usize, usize)>> {
@@ -87,6 +88,11 @@ fn binary_blocks(bytes: &[u8]) -> Option<Vec<(usize, usize)>> {
     let mut at = 0usize;
     while at < bytes.len() {
         if !blocks.is_empty() && bytes.len() - at < 84 {
+            // Exactly one more triangle is not padding: a count one short (read as padding,
+            // the surface had a hole and was reported as open).
+            if bytes.len() - at == 50 {
+                return None;
+            }
             break;
         }
         let count = bytes.get(at + 80..at + 84)?;

@@ -391,6 +391,12 @@ fn binary_stl_even_with_a_solid_header() {
         polygons(&padded),
         polygons(&parse_stl(&good, Path::new("b.stl")).unwrap())
     );
+    // A count one short is not taken for padding: the triangle left out would open the surface.
+    let mut short = binary_stl(b"solid x", &tris[..1]);
+    short.extend_from_slice(&good[84 + 50..]);
+    let (offset, message) = err(&short);
+    assert_eq!(offset, 80);
+    assert_eq!(message, "the binary STL header declares 1 triangles, which take 134 bytes, but the file has 184 bytes");
     let mut uncounted = good.clone();
     uncounted[80..84].copy_from_slice(&[0; 4]);
     assert_eq!(
