@@ -28,6 +28,11 @@
 //!
 //! Large meshes are renumbered along a space-filling curve as they grow ([`RENUMBER_MIN`]), so
 //! that the later passes and stages read memory in order.
+//!
+//! A spacing field may ask for more elements than 32-bit indices hold (a background mesh with
+//! a spacing of 1e-300): each pass estimates the elements its candidates' spacing asks for in
+//! their own elements, and over 2^30 the run stops with [`PointGenError::SpacingTooFine`]
+//! rather than when memory runs out (the same in 3D).
 
 use crate::SpacingField;
 use delmesh_boundary_recovery::Mesh2;
