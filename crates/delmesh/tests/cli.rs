@@ -942,22 +942,8 @@ fn mesh_3d_with_a_background_mesh_and_adaptation() {
         assert!(msg.contains("2^30") && msg.contains("1.000e-300"), "{msg}");
     }
     // A 2D background for the 3D domain, and the 3D one for a 2D domain: named as such.
-    let square = delmesh::io::SimplexMesh {
-        dim: 2,
-        coords: &[0.0, 0.0, 1.0, 0.0, 0.0, 1.0],
-        cells: &[0, 1, 2],
-        neighbors: None,
-    };
-    let h = [0.1; 3];
-    delmesh::io::write_vtu(
-        &dir.path().join("bg2.vtu"),
-        &square,
-        &[("spacing", &h)],
-        &[],
-    )
-    .unwrap();
     for (domain, bg, dims) in [
-        ("cube.off", "bg2.vtu", "2D mesh, but the domain is 3D"),
+        ("cube.off", "tiny2.vtu", "2D mesh, but the domain is 3D"),
         ("sq.poly", "bg.vtu", "3D mesh, but the domain is 2D"),
     ] {
         let msg = fails(&delmesh(

@@ -111,13 +111,14 @@ impl AreaLimits {
     }
 }
 
-fn points(mesh: &Mesh2, c: CellId) -> [[f64; 2]; 3] {
+/// The corners of element `c`.
+pub(crate) fn points(mesh: &Mesh2, c: CellId) -> [[f64; 2]; 3] {
     let tri = mesh.cdt.triangulation();
     let v = tri.cell(c);
     [tri.vertex(v[0]), tri.vertex(v[1]), tri.vertex(v[2])]
 }
 
 /// The area of a counter-clockwise triangle.
-fn area(p: [[f64; 2]; 3]) -> f64 {
+pub(crate) fn area(p: [[f64; 2]; 3]) -> f64 {
     0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]))
 }

@@ -34,6 +34,7 @@
 //! their own elements, and over 2^30 the run stops with [`PointGenError::SpacingTooFine`]
 //! rather than when memory runs out (the same in 3D).
 
+use crate::area::{area, points};
 use crate::SpacingField;
 use delmesh_boundary_recovery::Mesh2;
 use delmesh_delaunay_core::{CellId, ConstraintError, Dim, Insertion, VertexId, D2};
@@ -130,14 +131,6 @@ fn about(n: f64) -> String {
     } else {
         "more than 1e308".to_string()
     }
-}
-
-/// The area of triangle `c`.
-fn area(tri: &delmesh_delaunay_core::Triangulation<D2>, c: CellId) -> f64 {
-    let v = tri.cell(c);
-    let p = [tri.vertex(v[0]), tri.vertex(v[1]), tri.vertex(v[2])];
-    0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]))
-        .abs()
 }
 
 /// Equilateral triangles of side `h` in `area`.
@@ -265,10 +258,7 @@ impl PointGeneration {
         let mut cells = elements_where(mesh, |_| true);
         // The element count at the last renumbering (see `RENUMBER_MIN`).
         let mut renumbered = elements;
-        let domain_area: f64 = {
-            let tri = mesh.cdt.triangulation();
-            cells.par_iter().map(|&c| area(tri, c)).sum()
-        };
+        let domain_area = mesh.area();
         while report.passes.len() < self.max_passes && added < self.max_points {
             let previous = mesh.cdt.changed_in_epoch();
             let epoch = mesh.cdt.next_epoch(true);
@@ -323,10 +313,10 @@ impl PointGeneration {
             // that many over the whole domain.
             let finest = todo.iter().fold(f64::INFINITY, |m, t| m.min(t.2));
             if triangles_in(domain_area, finest) > MAX_ELEMENTS {
-                let tri = mesh.cdt.triangulation();
+                let mesh: &Mesh2 = mesh;
                 let asked: f64 = todo
                     .par_iter()
-                    .map(|&(key, _, h, _)| triangles_in(area(tri, CellId(key as u32)), h))
+                    .map(|&(key, _, h, _)| triangles_in(area(points(mesh, CellId(key as u32))), h))
                     .sum();
                 if asked > MAX_ELEMENTS {
                     return Err(PointGenError::SpacingTooFine {

@@ -22,6 +22,7 @@
 //! one's neighbour, and the count of points stays that of visiting the slots in order (which
 //! it was before, and which missed the cache on nearly every conflict test).
 
+use crate::volume::{points, tet_volume};
 use crate::{PointGenError, SpacingField3, RENUMBER_MIN};
 use delmesh_boundary_recovery::{Mesh3, OUTSIDE};
 use delmesh_delaunay_core::{CellId, Dim, VertexId, D3};
@@ -146,10 +147,7 @@ impl PointGeneration3 {
         let mut report = GenerationReport3::default();
         let mut added = 0usize;
         let mut cells: Vec<CellId> = mesh.elements().collect();
-        let domain_volume: f64 = {
-            let tri = mesh.ct.triangulation();
-            cells.par_iter().map(|&c| volume(tri, c)).sum()
-        };
+        let domain_volume = mesh.volume();
         // The cell slots made in the current pass (a slot freed and reused counts once).
         let mut made: Vec<bool> = Vec::new();
         while report.passes.len() < self.max_passes && added < self.max_points {
@@ -177,13 +175,14 @@ impl PointGeneration3 {
                 _ => m,
             });
             if tetrahedra_in(domain_volume, finest) > crate::generate::MAX_ELEMENTS {
-                let tri = mesh.ct.triangulation();
+                let mesh: &Mesh3 = mesh;
                 let asked: f64 = looked
                     .par_iter()
                     .filter_map(|&(key, k)| match k {
-                        Candidate3::At { h, .. } => {
-                            Some(tetrahedra_in(volume(tri, CellId(key as u32)), h))
-                        }
+                        Candidate3::At { h, .. } => Some(tetrahedra_in(
+                            tet_volume(points(mesh, CellId(key as u32))),
+                            h,
+                        )),
                         _ => None,
                     })
                     .sum();
@@ -376,17 +375,6 @@ impl Frame3 {
             [0, 1, 2].map(|k| ((p[k] - self.lo[k]) * self.scale).clamp(0.0, Self::CELLS) as u32);
         D3::hilbert_key(&q)
     }
-}
-
-/// The volume of tetrahedron `c`.
-fn volume(tri: &delmesh_delaunay_core::Triangulation<D3>, c: CellId) -> f64 {
-    let v = tri.cell(c);
-    let p = [0, 1, 2, 3].map(|i| tri.vertex(v[i]));
-    let d = |i: usize| [0, 1, 2].map(|a| p[i][a] - p[0][a]);
-    let (a, b, c) = (d(1), d(2), d(3));
-    let six = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-        + a[2] * (b[0] * c[1] - b[1] * c[0]);
-    six.abs() / 6.0
 }
 
 /// Regular tetrahedra of edge `h` in `volume`.

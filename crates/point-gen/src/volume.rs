@@ -143,13 +143,14 @@ impl VolumeLimits {
     }
 }
 
-fn points(mesh: &Mesh3, c: CellId) -> [[f64; 3]; 4] {
+/// The corners of element `c`.
+pub(crate) fn points(mesh: &Mesh3, c: CellId) -> [[f64; 3]; 4] {
     let tri = mesh.ct.triangulation();
     let v = tri.cell(c);
     [0, 1, 2, 3].map(|k| tri.vertex(v[k]))
 }
 
 /// The volume of a tetrahedron (whatever its orientation).
-fn tet_volume(p: [[f64; 3]; 4]) -> f64 {
+pub(crate) fn tet_volume(p: [[f64; 3]; 4]) -> f64 {
     delmesh_boundary_recovery::tet_volume(p[0], p[1], p[2], p[3]).abs()
 }
