@@ -380,7 +380,18 @@ fn mesh(args: &MeshArgs) -> Result<()> {
             AnyPoly::Triangle(poly) => mesh2d::plc_from_poly(&poly),
         }
     } else {
-        mesh2d::read_plc(&args.input)?
+        // Anything else was read as a Triangle .poly, and a PLY or a .txt surface then failed
+        // with a parse error on some line of it.
+        let ext = args.input.extension().map_or_else(
+            || "no extension".to_string(),
+            |e| format!("'.{}'", e.to_string_lossy()),
+        );
+        anyhow::bail!(
+            "{}: unknown input format ({ext}): `delmesh mesh` reads a Triangle .poly (2D) or a \
+             surface ({})",
+            args.input.display(),
+            mesh3d::SURFACE_INPUTS
+        );
     };
     for out in &args.output {
         if !matches!(

@@ -346,7 +346,7 @@ fn mesh_in_plane_with(
         recovery: RecoveryMethod::Constrained,
         generation: Some(PointGeneration::default()),
         sources: sizing.in_plane(p[0], u, w, n),
-        split_boundary_for_sources: false,
+        split_boundary: false,
         smoothing: defaults.smoothing.filter(|_| on_segment.iter().all(|&s| s)),
         ..defaults
     };

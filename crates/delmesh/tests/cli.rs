@@ -307,6 +307,31 @@ fn missing_input_is_an_error() {
 }
 
 #[test]
+fn unknown_mesh_input_format_is_named() {
+    // A PLY surface (or any extension `mesh` does not read) was parsed as a Triangle .poly and
+    // failed on some line of it.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("part.ply"),
+        "ply\nformat ascii 1.0\nelement vertex 0\nend_header\n",
+    )
+    .unwrap();
+    let msg = fails(&delmesh(dir.path(), &["mesh", "part.ply", "-o", "m.vtu"]));
+    assert_eq!(
+        msg,
+        "error: part.ply: unknown input format ('.ply'): `delmesh mesh` reads a Triangle .poly \
+         (2D) or a surface (.smesh, .poly (3D), .off, .stl, .obj, .mesh, .msh)"
+    );
+    std::fs::write(dir.path().join("domain"), "3 2 0 0\n").unwrap();
+    let msg = fails(&delmesh(dir.path(), &["mesh", "domain", "-o", "m.vtu"]));
+    assert!(
+        msg.contains("domain: unknown input format (no extension)"),
+        "{msg}"
+    );
+    assert!(!dir.path().join("m.vtu").exists());
+}
+
+#[test]
 fn unknown_output_extension_is_an_error_before_any_work() {
     let dir = tempfile::tempdir().unwrap();
     write_node(dir.path(), "pts.node", 2, &points(2, 10), 0);
@@ -941,6 +966,21 @@ fn mesh_3d_with_a_background_mesh_and_adaptation() {
         ));
         assert!(msg.contains("2^30") && msg.contains("1.000e-300"), "{msg}");
     }
+    // A bad value in a Triangle background is named in its .node file's numbering.
+    std::fs::write(
+        dir.path().join("neg.node"),
+        "3 2 1 0\n1 -1 -1 0.5\n2 11 -1 -0.5\n3 -1 11 0.5\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("neg.ele"), "1 3 0\n1 1 2 3\n").unwrap();
+    let msg = fails(&delmesh(
+        dir.path(),
+        &["mesh", "sq.poly", "--background", "neg.ele", "-o", "x.vtu"],
+    ));
+    assert_eq!(
+        msg,
+        "error: neg.node: node 2: spacing -0.5 is not positive and finite"
+    );
     // A 2D background for the 3D domain, and the 3D one for a 2D domain: named as such.
     for (domain, bg, dims) in [
         ("cube.off", "tiny2.vtu", "2D mesh, but the domain is 3D"),

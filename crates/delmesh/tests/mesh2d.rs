@@ -535,6 +535,77 @@ fn a_corner_source_refines_the_boundary_and_the_elements_next_to_it() {
     }
 }
 
+/// A background mesh finer than the boundary's edges splits them (as sources do): a unit square
+/// of four edges under a spacing of 0.05 had fans of thin triangles from its corners (smallest
+/// angle 4.5°). A background graded along x grades the boundary too; kept as given with
+/// `split_boundary` off.
+#[test]
+fn a_background_mesh_finer_than_the_boundary_splits_it() {
+    use delmesh::mesh2d::Spacing;
+    use delmesh::point_gen::BackgroundMesh2;
+    let mut plc = Plc2::default();
+    square_loop(&mut plc, 0.0, 1.0, 1, false);
+    let corners = vec![[-1.0, -1.0], [2.0, -1.0], [2.0, 2.0], [-1.0, 2.0]];
+    let triangles = vec![[0, 1, 2], [0, 2, 3]];
+    let background = |h: [f64; 4]| {
+        Spacing::Background(
+            BackgroundMesh2::new(corners.clone(), triangles.clone(), h.to_vec()).unwrap(),
+        )
+    };
+    // Constant 0.05: twenty equal pieces a side.
+    let options = MeshOptions2 {
+        spacing: background([0.05; 4]),
+        ..MeshOptions2::default()
+    };
+    let run = mesh_plc(&plc, &options).unwrap();
+    check_run(&run, &plc, "background 0.05");
+    assert_eq!(run.arrays.edges.len(), 80);
+    assert!(run.quality.min_angle > 28.0, "{}", run.quality.min_angle);
+    // Graded: 0.02 at x = -1 to 0.2 at x = 2, so 0.08 to 0.14 across the square. The bottom
+    // edge's pieces grow with x and stay within a factor 1.5 of the spacing at their middle.
+    let options = MeshOptions2 {
+        spacing: background([0.02, 0.2, 0.2, 0.02]),
+        ..MeshOptions2::default()
+    };
+    let run = mesh_plc(&plc, &options).unwrap();
+    check_run(&run, &plc, "graded background");
+    let a = &run.arrays;
+    let mut pieces: Vec<[f64; 2]> = a
+        .edges
+        .iter()
+        .map(|e| [a.coords[e[0] as usize], a.coords[e[1] as usize]])
+        .filter(|[p, q]| p[1] == 0.0 && q[1] == 0.0)
+        .map(|[p, q]| [p[0].min(q[0]), p[0].max(q[0])])
+        .collect();
+    pieces.sort_by(|u, v| u[0].total_cmp(&v[0]));
+    assert!((8..=12).contains(&pieces.len()), "{} pieces", pieces.len());
+    let mut x = 0.0;
+    for &[lo, hi] in &pieces {
+        assert_eq!(lo, x, "the bottom edge's pieces join");
+        x = hi;
+        let mid = 0.5 * (lo + hi);
+        let h = 0.02 + 0.06 * (mid + 1.0);
+        let piece = hi - lo;
+        assert!(
+            piece < 1.5 * h && piece > h / 1.5,
+            "piece {piece} at x = {mid}, spacing {h}"
+        );
+    }
+    assert_eq!(x, 1.0);
+    let length = |p: &[f64; 2]| p[1] - p[0];
+    assert!(length(&pieces[0]) < length(&pieces[pieces.len() - 1]));
+    assert!(run.quality.min_angle > 28.0, "{}", run.quality.min_angle);
+    // Off: the boundary as given.
+    let options = MeshOptions2 {
+        spacing: background([0.05; 4]),
+        split_boundary: false,
+        ..MeshOptions2::default()
+    };
+    let run = mesh_plc(&plc, &options).unwrap();
+    check_run(&run, &plc, "background, boundary kept");
+    assert_eq!(run.arrays.edges.len(), 4);
+}
+
 /// At a small α a centroid rounds onto the square's top edge (the convex hull): refused like
 /// one on any boundary edge (it was an error, "lies outside the triangulated region").
 #[test]

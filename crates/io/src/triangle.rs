@@ -211,5 +211,6 @@ pub fn read_triangle_mesh(ele_path: &Path) -> Result<FieldMesh, IoError> {
         coords: points.coords,
         cells,
         point_fields,
+        points_file: (node_path, points.first_index),
     })
 }

@@ -33,6 +33,10 @@ pub struct FieldMesh {
     /// Scalar point fields by name; a vector field of `k` components gives `name_0`,
     /// `name_1`, ... (one scalar field per component).
     pub point_fields: Vec<(String, Vec<f64>)>,
+    /// The file where the points and their fields are, and the number it gives its first
+    /// point: the `.vtu` itself and 0, or a Triangle mesh's `.node` file and its base (0 or 1),
+    /// so that messages name a point as its file does.
+    pub points_file: (std::path::PathBuf, u32),
 }
 
 /// Reads a VTK XML unstructured grid (`.vtu`; inline ASCII, binary or appended data, as vtkio
@@ -148,6 +152,7 @@ pub fn read_vtu(path: &Path) -> Result<FieldMesh, IoError> {
         coords,
         cells,
         point_fields,
+        points_file: (path.to_path_buf(), 0),
     })
 }
 

@@ -421,6 +421,10 @@ impl Adaptation {
 /// The most pieces [`graded_splits`] cuts an edge into (2^20).
 pub const MAX_SOURCE_PIECES: usize = 1 << 20;
 
+/// Samples of a background mesh's spacing along a boundary edge, at first
+/// ([`SpacingField::boundary_splits`]).
+const SPLIT_SAMPLES: usize = 64;
+
 /// Where to split an edge `length` long so that each piece is no longer than the spacing
 /// `spacing_at(t)` (`t` in `[0, 1]` along the edge) anywhere along it, given that the spacing
 /// changes by at most `growth` per unit length: a step from `t` is the spacing there over
@@ -622,6 +626,74 @@ impl SpacingField {
             },
             growth,
         )
+    }
+
+    /// Where the field asks for the boundary edge `a b` to be split, for
+    /// [`delmesh_boundary_recovery::BoundaryRecovery::with_segment_splits`]: generation cannot
+    /// fill the domain next to an edge much longer than the spacing there, and thin elements
+    /// pile up along it. Without a background mesh, as [`Self::source_splits`]. With one (or
+    /// an adaptation's), the spacing along the edge is sampled, and the edge is cut into as
+    /// many pieces as it is long in spacings (`∫ ds / h`, rounded to the nearest whole
+    /// number: an edge up to one and a half times the spacing stays whole), placed at equal
+    /// steps of that integral so that they grade as the spacing does. Empty where the spacing
+    /// is not positive and finite (generation names that point).
+    pub fn boundary_splits(&self, a: [f64; 2], b: [f64; 2]) -> Vec<f64> {
+        if matches!(self.base, Base::Boundary) {
+            return self.source_splits(a, b);
+        }
+        let length = (b[0] - a[0]).hypot(b[1] - a[1]);
+        if !(length > 0.0 && length.is_finite()) {
+            return Vec::new();
+        }
+        let at = |t: f64| self.spacing([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])], 0.0);
+        // Samples at least eight per finest spacing seen in a first, coarse sampling.
+        let sample = |k: usize| -> Option<Vec<f64>> {
+            let h: Vec<f64> = (0..=k).map(|i| at(i as f64 / k as f64)).collect();
+            h.iter().all(|&x| x > 0.0 && x.is_finite()).then_some(h)
+        };
+        let Some(coarse) = sample(SPLIT_SAMPLES) else {
+            return Vec::new();
+        };
+        let finest = coarse.iter().copied().fold(f64::INFINITY, f64::min);
+        let wanted = (8.0 * length / finest).ceil();
+        let (k, h) = if wanted > SPLIT_SAMPLES as f64 {
+            let k = wanted.min(MAX_SOURCE_PIECES as f64) as usize;
+            match sample(k) {
+                Some(h) => (k, h),
+                None => return Vec::new(),
+            }
+        } else {
+            (SPLIT_SAMPLES, coarse)
+        };
+        // The edge's length in spacings up to each sample (trapezoids in 1/h).
+        let dt = 1.0 / k as f64;
+        let mut within = Vec::with_capacity(k + 1);
+        within.push(0.0);
+        for w in h.windows(2) {
+            let last = within[within.len() - 1];
+            within.push(last + 0.5 * length * dt * (1.0 / w[0] + 1.0 / w[1]));
+        }
+        let total = within[k];
+        let pieces = total.round().min(MAX_SOURCE_PIECES as f64) as usize;
+        let mut ts = Vec::with_capacity(pieces.saturating_sub(1));
+        let mut j = 0;
+        for piece in 1..pieces {
+            let target = total * piece as f64 / pieces as f64;
+            while j + 1 < k && within[j + 1] < target {
+                j += 1;
+            }
+            let step = within[j + 1] - within[j];
+            let f = if step > 0.0 {
+                (target - within[j]) / step
+            } else {
+                0.5
+            };
+            let t = (j as f64 + f.clamp(0.0, 1.0)) * dt;
+            if t > ts.last().copied().unwrap_or(0.0) && t < 1.0 {
+                ts.push(t);
+            }
+        }
+        ts
     }
 
     /// The spacing at `p`; `from_nodes` is the value interpolated from the element's nodes.
