@@ -72,6 +72,7 @@ mod tetmesh;
 mod text;
 mod triangle;
 mod vtu;
+mod vtu_read;
 mod xyz;
 
 pub use atomic::write_atomic;

@@ -1,4 +1,5 @@
-//! VTK XML unstructured-grid (`.vtu`) output through the `vtkio` crate.
+//! VTK XML unstructured-grid (`.vtu`) output through the `vtkio` crate, and input (by
+//! [`crate::vtu_read`], which reads what vtkio does not).
 //!
 //! `.vtu` is what ParaView and VisIt open directly, so it is the format for looking at meshes,
 //! quality fields and Voronoi cells. [`write_vtu`] writes triangle / tetrahedron meshes with
@@ -39,51 +40,17 @@ pub struct FieldMesh {
     pub points_file: (std::path::PathBuf, u32),
 }
 
-/// Reads a VTK XML unstructured grid (`.vtu`; inline ASCII, binary or appended data, as vtkio
-/// reads them) of triangles or tetrahedra, with its point fields.
+/// Reads a VTK XML unstructured grid (`.vtu`) of triangles or tetrahedra, with its point fields,
+/// in any data mode VTK writes (see [`crate::vtu_read`]: ASCII, inline binary, appended raw or
+/// base64, compressed or not).
 ///
 /// # Errors
-/// A file vtkio cannot read, another data set type, cells that are not all triangles (or all
-/// tetrahedra), indices out of range.
+/// A file that cannot be read or is not a `.vtu` of one piece, data that does not decode,
+/// cells that are not all triangles (or all tetrahedra), indices out of range.
 pub fn read_vtu(path: &Path) -> Result<FieldMesh, IoError> {
-    let vtk_err = |e: vtkio::Error| match e {
-        vtkio::Error::IO(source) => IoError::io(path, source),
-        other => IoError::Vtk {
-            file: path.to_path_buf(),
-            message: other.to_string(),
-        },
-    };
-    // vtkio wraps a missing or unreadable file in an XML error: say it plainly.
-    std::fs::File::open(path).map_err(|e| IoError::io(path, e))?;
-    let vtk = Vtk::import(path).map_err(vtk_err)?;
-    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
-        return Err(IoError::invalid(path, "not an unstructured grid (.vtu)"));
-    };
-    if pieces.len() != 1 {
-        return Err(IoError::invalid(
-            path,
-            format!("{} pieces; one is supported", pieces.len()),
-        ));
-    }
-    let piece = pieces
-        .into_iter()
-        .next()
-        .expect("one piece")
-        .into_loaded_piece_data(Some(path))
-        .map_err(|e| IoError::Vtk {
-            file: path.to_path_buf(),
-            message: e.to_string(),
-        })?;
-    let xyz: Vec<f64> = piece
-        .points
-        .cast_into::<f64>()
-        .ok_or_else(|| IoError::invalid(path, "point coordinates are not numbers"))?;
-    if xyz.len() % 3 != 0 {
-        return Err(IoError::invalid(
-            path,
-            "point coordinates are not 3 per point",
-        ));
-    }
+    let bytes = std::fs::read(path).map_err(|e| IoError::io(path, e))?;
+    let piece = crate::vtu_read::parse_vtu(&bytes).map_err(|m| IoError::invalid(path, m))?;
+    let xyz = piece.points;
     let n_points = xyz.len() / 3;
     if let Some(i) = xyz.iter().position(|x| !x.is_finite()) {
         return Err(IoError::invalid(
@@ -93,24 +60,29 @@ pub fn read_vtu(path: &Path) -> Result<FieldMesh, IoError> {
     }
     let flat = xyz.chunks_exact(3).all(|p| p[2] == 0.0);
     let dim = if flat { 2 } else { 3 };
-    let (connectivity, offsets) = piece.cells.cell_verts.into_xml();
-    let want = if dim == 2 {
-        CellType::Triangle
+    // VTK_TRIANGLE and VTK_TETRA.
+    let (want, what) = if dim == 2 {
+        (5.0, "triangle (VTK type 5)")
     } else {
-        CellType::Tetra
+        (10.0, "tetrahedron (VTK type 10)")
     };
+    let connectivity = &piece.connectivity;
     let mut cells = Vec::with_capacity(connectivity.len());
     let mut begin = 0usize;
-    for (k, (&end, &ty)) in offsets.iter().zip(&piece.cells.types).enumerate() {
+    for (k, (&end, &ty)) in piece.offsets.iter().zip(&piece.types).enumerate() {
         let end = end as usize;
         if ty != want || end < begin || end - begin != dim + 1 || end > connectivity.len() {
             return Err(IoError::invalid(
                 path,
-                format!("cell {k} is a {ty:?}; only {want:?} cells are supported here"),
+                format!(
+                    "cell {k} is of VTK type {ty} with {} points; only {what} cells are \
+                     supported here",
+                    end.saturating_sub(begin)
+                ),
             ));
         }
         for &v in &connectivity[begin..end] {
-            if v as usize >= n_points {
+            if !(v >= 0.0 && v < n_points as f64 && v.fract() == 0.0) {
                 return Err(IoError::invalid(
                     path,
                     format!("cell {k} refers to point {v} but there are {n_points} points"),
@@ -126,24 +98,15 @@ pub fn read_vtu(path: &Path) -> Result<FieldMesh, IoError> {
         xyz.chunks_exact(3).flat_map(|p| [p[0], p[1]]).collect()
     };
     let mut point_fields = Vec::new();
-    for attr in piece.data.point {
-        if let Attribute::DataArray(array) = attr {
-            let comps = array.elem.num_comp() as usize;
-            let Some(values) = array.data.cast_into::<f64>() else {
-                continue;
-            };
-            if comps == 0 || values.len() != comps * n_points {
-                continue;
-            }
-            if comps == 1 {
-                point_fields.push((array.name, values));
-            } else {
-                for c in 0..comps {
-                    point_fields.push((
-                        format!("{}_{c}", array.name),
-                        values.iter().skip(c).step_by(comps).copied().collect(),
-                    ));
-                }
+    for (name, comps, values) in piece.point_data {
+        if comps == 1 {
+            point_fields.push((name, values));
+        } else {
+            for c in 0..comps {
+                point_fields.push((
+                    format!("{name}_{c}"),
+                    values.iter().skip(c).step_by(comps).copied().collect(),
+                ));
             }
         }
     }
