@@ -32,6 +32,7 @@ use delmesh_point_gen::{
     Adaptation, AreaLimits, BackgroundMesh2, GenerationReport, PointGeneration, QualityRefinement,
     Source, SpacingError, SpacingField,
 };
+use delmesh_predicates::{orient2d, Sign};
 use delmesh_smoothing::{QualityReport, SmoothStats, Smoother};
 
 use crate::sources::check_sources2;
@@ -567,11 +568,16 @@ fn read_field(path: &Path, field: &str) -> Result<(FieldData, (PathBuf, u32)), E
         });
     }
     let values = point_field(&mesh, field, path)?;
-    let points = mesh.coords.chunks_exact(2).map(|p| [p[0], p[1]]).collect();
+    let points: Vec<[f64; 2]> = mesh.coords.chunks_exact(2).map(|p| [p[0], p[1]]).collect();
+    // Cells of no area (a solver's collapsed quads, split) hold nothing to interpolate.
     let triangles = mesh
         .cells
         .chunks_exact(3)
         .map(|t| [t[0], t[1], t[2]])
+        .filter(|t: &[u32; 3]| {
+            let p = t.map(|v| points[v as usize]);
+            orient2d(p[0], p[1], p[2]) != Sign::Zero
+        })
         .collect();
     Ok((
         (points, triangles, values.clone()),

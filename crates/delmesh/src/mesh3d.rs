@@ -1245,15 +1245,20 @@ fn read_field3(path: &Path, field: &str) -> Result<FieldData3, Error> {
         });
     }
     let values = crate::mesh2d::point_field(&mesh, field, path)?;
-    let points = mesh
+    let points: Vec<[f64; 3]> = mesh
         .coords
         .chunks_exact(3)
         .map(|p| [p[0], p[1], p[2]])
         .collect();
+    // Cells of no volume (a solver's collapsed hexahedra, split) hold nothing to interpolate.
     let tets = mesh
         .cells
         .chunks_exact(4)
         .map(|t| [t[0], t[1], t[2], t[3]])
+        .filter(|t: &[u32; 4]| {
+            let p = t.map(|v| points[v as usize]);
+            orient3d(p[0], p[1], p[2], p[3]) != Sign::Zero
+        })
         .collect();
     Ok((points, tets, values.clone()))
 }

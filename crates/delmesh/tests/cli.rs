@@ -966,6 +966,17 @@ fn mesh_3d_with_a_background_mesh_and_adaptation() {
         ));
         assert!(msg.contains("2^30") && msg.contains("1.000e-300"), "{msg}");
     }
+    // A solver's mesh of hexahedra, prisms, pyramids (and a collapsed hexahedron, of no
+    // volume) and a 2D one of quads and polygons serve as background meshes.
+    let cells = Path::new(env!("CARGO_MANIFEST_DIR")).join("../io/tests/data/vtu-cells");
+    for (domain, bg) in [("cube.off", "mixed-3d.vtu"), ("sq.poly", "mixed-2d.vtu")] {
+        let bg = cells.join(bg);
+        let bg = bg.to_str().unwrap();
+        ok(&delmesh(
+            dir.path(),
+            &["mesh", domain, "--background", bg, "-o", "mixed.vtu"],
+        ));
+    }
     // A bad value in a Triangle background is named in its .node file's numbering.
     std::fs::write(
         dir.path().join("neg.node"),

@@ -40,13 +40,14 @@ pub struct FieldMesh {
     pub points_file: (std::path::PathBuf, u32),
 }
 
-/// Reads a VTK XML unstructured grid (`.vtu`) of triangles or tetrahedra, with its point fields,
-/// in any data mode VTK writes (see [`crate::vtu_read`]: ASCII, inline binary, appended raw or
-/// base64, compressed or not).
+/// Reads a VTK XML unstructured grid (`.vtu`) with its point fields, in any data mode VTK writes
+/// (see [`crate::vtu_read`]: ASCII, inline binary, appended raw or base64, compressed or not),
+/// as triangles (2D: every z is 0) or tetrahedra: other linear cells are split into them (see
+/// `split_cell`).
 ///
 /// # Errors
 /// A file that cannot be read or is not a `.vtu` of one piece, data that does not decode,
-/// cells that are not all triangles (or all tetrahedra), indices out of range.
+/// cells that are not linear, indices out of range.
 pub fn read_vtu(path: &Path) -> Result<FieldMesh, IoError> {
     let bytes = std::fs::read(path).map_err(|e| IoError::io(path, e))?;
     let piece = crate::vtu_read::parse_vtu(&bytes).map_err(|m| IoError::invalid(path, m))?;
@@ -60,27 +61,18 @@ pub fn read_vtu(path: &Path) -> Result<FieldMesh, IoError> {
     }
     let flat = xyz.chunks_exact(3).all(|p| p[2] == 0.0);
     let dim = if flat { 2 } else { 3 };
-    // VTK_TRIANGLE and VTK_TETRA.
-    let (want, what) = if dim == 2 {
-        (5.0, "triangle (VTK type 5)")
-    } else {
-        (10.0, "tetrahedron (VTK type 10)")
-    };
     let connectivity = &piece.connectivity;
     let mut cells = Vec::with_capacity(connectivity.len());
     let mut begin = 0usize;
     for (k, (&end, &ty)) in piece.offsets.iter().zip(&piece.types).enumerate() {
         let end = end as usize;
-        if ty != want || end < begin || end - begin != dim + 1 || end > connectivity.len() {
+        if end < begin || end > connectivity.len() {
             return Err(IoError::invalid(
                 path,
-                format!(
-                    "cell {k} is of VTK type {ty} with {} points; only {what} cells are \
-                     supported here",
-                    end.saturating_sub(begin)
-                ),
+                format!("cell {k} ends at {end}, before it begins or past the connectivity"),
             ));
         }
+        let mut nodes = Vec::with_capacity(end - begin);
         for &v in &connectivity[begin..end] {
             if !(v >= 0.0 && v < n_points as f64 && v.fract() == 0.0) {
                 return Err(IoError::invalid(
@@ -88,9 +80,15 @@ pub fn read_vtu(path: &Path) -> Result<FieldMesh, IoError> {
                     format!("cell {k} refers to point {v} but there are {n_points} points"),
                 ));
             }
-            cells.push(v as u32);
+            nodes.push(v as u32);
         }
         begin = end;
+        split_cell(ty, &nodes, dim, &mut cells).map_err(|m| {
+            IoError::invalid(
+                path,
+                format!("cell {k} (VTK type {ty}, {} points): {m}", nodes.len()),
+            )
+        })?;
     }
     let coords = if dim == 3 {
         xyz
@@ -117,6 +115,92 @@ pub fn read_vtu(path: &Path) -> Result<FieldMesh, IoError> {
         point_fields,
         points_file: (path.to_path_buf(), 0),
     })
+}
+
+/// Appends the simplices of one `.vtu` cell to `out`: a mesh read for its point fields (a
+/// background mesh, a flow solution to adapt to) is used to interpolate, so a solver's quads,
+/// hexahedra, prisms and pyramids are split into triangles or tetrahedra (hexahedra into six
+/// around a diagonal, prisms into three, pyramids into two; neighbours may split a shared
+/// quadrilateral differently, which interpolation does not mind), and points and lines (and
+/// faces in a 3D file) are left out. Quadratic and other cells are refused.
+fn split_cell(ty: f64, v: &[u32], dim: usize, out: &mut Vec<u32>) -> Result<(), String> {
+    let need = |n: usize| {
+        if v.len() == n {
+            Ok(())
+        } else {
+            Err(format!("{n} points expected"))
+        }
+    };
+    let mut push = |corners: &[usize]| out.extend(corners.iter().map(|&c| v[c]));
+    // Hexahedron corners in VTK's order (bottom 0-3, top 4-7): six tetrahedra around 0-6.
+    let hexahedron = |push: &mut dyn FnMut(&[usize]), h: [usize; 8]| {
+        for [a, b] in [[1, 2], [2, 3], [3, 7], [7, 4], [4, 5], [5, 1]] {
+            push(&[h[0], h[a], h[b], h[6]]);
+        }
+    };
+    match (dim, ty as u32) {
+        // Vertices, poly-vertices, lines, poly-lines.
+        (_, 1..=4) => {}
+        (2, 5) => {
+            need(3)?;
+            push(&[0, 1, 2]);
+        }
+        // Polygon and quad: a fan.
+        (2, 7 | 9) => {
+            if ty == 9.0 {
+                need(4)?;
+            } else if v.len() < 3 {
+                return Err("a polygon needs 3 points".into());
+            }
+            for i in 1..v.len() - 1 {
+                push(&[0, i, i + 1]);
+            }
+        }
+        // Pixel: a quad with its corners in x-then-y order.
+        (2, 8) => {
+            need(4)?;
+            push(&[0, 1, 3]);
+            push(&[0, 3, 2]);
+        }
+        // Faces of a 3D mesh (a boundary written with the volume).
+        (3, 5 | 7 | 8 | 9) => {}
+        (3, 10) => {
+            need(4)?;
+            push(&[0, 1, 2, 3]);
+        }
+        (3, 11) => {
+            need(8)?;
+            hexahedron(&mut push, [0, 1, 3, 2, 4, 5, 7, 6]);
+        }
+        (3, 12) => {
+            need(8)?;
+            hexahedron(&mut push, [0, 1, 2, 3, 4, 5, 6, 7]);
+        }
+        // Wedge (prism): triangles 0-1-2 and 3-4-5.
+        (3, 13) => {
+            need(6)?;
+            push(&[0, 1, 2, 5]);
+            push(&[0, 1, 5, 4]);
+            push(&[0, 4, 5, 3]);
+        }
+        // Pyramid: quadrilateral 0-3, apex 4.
+        (3, 14) => {
+            need(5)?;
+            push(&[0, 1, 2, 4]);
+            push(&[0, 2, 3, 4]);
+        }
+        _ => {
+            return Err(if dim == 2 {
+                "only triangles, quads, pixels and polygons (VTK types 5, 7, 8, 9) make a 2D mesh"
+                    .into()
+            } else {
+                "only tetrahedra, hexahedra, voxels, wedges and pyramids (VTK types 10 to 14) \
+                 make a 3D mesh"
+                    .into()
+            })
+        }
+    }
+    Ok(())
 }
 
 /// Writes a triangle (2D) or tetrahedron (3D) mesh as a VTK XML UnstructuredGrid (`.vtu`),

@@ -101,3 +101,64 @@ fn damaged_files_are_errors_not_panics() {
     }
     assert!(refused > 1000, "{refused}");
 }
+
+fn cells_fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/vtu-cells")
+        .join(name)
+}
+
+/// A solver's mesh of quads, hexahedra, prisms and pyramids (a flow solution to adapt to) is
+/// read as triangles or tetrahedra covering the same area or volume; points, lines and (in 3D)
+/// faces are left out; quadratic cells are refused.
+#[test]
+fn linear_cells_are_split_into_simplices() {
+    let m = read_vtu(&cells_fixture("mixed-2d.vtu")).unwrap();
+    assert_eq!(m.dim, 2);
+    // Quad, pixel and polygon: 2 triangles each, and 2 triangles; the line and vertex left out.
+    assert_eq!(m.cells.len(), 8 * 3);
+    let area: f64 = m
+        .cells
+        .chunks(3)
+        .map(|t| {
+            let p = |k: usize| [m.coords[2 * t[k] as usize], m.coords[2 * t[k] as usize + 1]];
+            let (a, b, c) = (p(0), p(1), p(2));
+            0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs()
+        })
+        .sum();
+    assert_eq!(area, 4.0);
+
+    let m = read_vtu(&cells_fixture("mixed-3d.vtu")).unwrap();
+    assert_eq!(m.dim, 3);
+    // Hexahedron and voxel 6 each, wedge 3, pyramid 2, tetrahedron 1, the collapsed
+    // hexahedron 6 (of no volume); the triangle left out.
+    assert_eq!(m.cells.len(), 24 * 4);
+    let volume: f64 = m
+        .cells
+        .chunks(4)
+        .map(|t| {
+            let p = |k: usize| {
+                let i = 3 * t[k] as usize;
+                [m.coords[i], m.coords[i + 1], m.coords[i + 2]]
+            };
+            let (a, b, c, d) = (p(0), p(1), p(2), p(3));
+            let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+            let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+            let w = [d[0] - a[0], d[1] - a[1], d[2] - a[2]];
+            (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+                + u[2] * (v[0] * w[1] - v[1] * w[0]))
+                .abs()
+                / 6.0
+        })
+        .sum();
+    // Two unit cubes, half a cube, a pyramid of height 1 on a unit square, a tetrahedron.
+    let expected = 2.0 + 0.5 + 1.0 / 3.0 + 0.5 / 6.0;
+    assert!((volume - expected).abs() < 1e-12, "{volume} vs {expected}");
+
+    let e = read_vtu(&cells_fixture("quadratic-2d.vtu")).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("cell 0 (VTK type 22, 6 points): only triangles, quads"),
+        "{e}"
+    );
+}
