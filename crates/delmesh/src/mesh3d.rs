@@ -705,7 +705,15 @@ pub fn restore_after_smoothing(
         }
     }
     match (restore_delaunay(arrays, plc, max_steiner_points), kept) {
-        (Ok(restored), _) => {
+        (Ok(mut restored), _) => {
+            // The points keep the spacing generation gave them (the recovery that rebuilt
+            // the mesh knows the surface's only).
+            for (i, &v) in arrays.vertex.iter().enumerate() {
+                if let Some(&h) = mesh.spacing.get(v.index()).filter(|h| h.is_finite()) {
+                    let w = restored.ct.triangulation().vertex_of_input(i);
+                    restored.set_interior_spacing(w, h);
+                }
+            }
             *mesh = restored;
             Ok(Restoration3::Retriangulated {
                 history: mesh.history.clone(),
@@ -1032,11 +1040,7 @@ impl MeshRun3 {
                             .unwrap_or(f64::NAN)
                     })
                     .collect();
-                let spacing = if spacing.iter().all(|h| h.is_finite()) {
-                    spacing
-                } else {
-                    Vec::new()
-                };
+                let spacing = fill_spacing(spacing, a);
                 let point_data: Vec<(&str, &[f64])> = if spacing.is_empty() {
                     Vec::new()
                 } else {
@@ -1261,6 +1265,37 @@ fn read_field3(path: &Path, field: &str) -> Result<FieldData3, Error> {
         })
         .collect();
     Ok((points, tets, values.clone()))
+}
+
+/// `spacing` (one per point of `a`) with each value that is not positive and finite (points
+/// the last recovery or restoration added, which no stage gave a spacing) replaced by the mean
+/// length of the point's edges, so that a `.vtu` output always carries the whole field and can
+/// serve as the next run's background mesh.
+fn fill_spacing(mut spacing: Vec<f64>, a: &MeshArrays3) -> Vec<f64> {
+    let missing = |h: f64| !(h > 0.0 && h.is_finite());
+    if !spacing.iter().any(|&h| missing(h)) {
+        return spacing;
+    }
+    let mut sum = vec![0.0f64; spacing.len()];
+    let mut count = vec![0u32; spacing.len()];
+    for t in &a.tets {
+        for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
+            let (u, v) = (t[i] as usize, t[j] as usize);
+            if missing(spacing[u]) || missing(spacing[v]) {
+                let d = crate::geometry3::dist(a.coords[u], a.coords[v]);
+                for w in [u, v] {
+                    sum[w] += d;
+                    count[w] += 1;
+                }
+            }
+        }
+    }
+    for (k, h) in spacing.iter_mut().enumerate() {
+        if missing(*h) && count[k] > 0 {
+            *h = sum[k] / f64::from(count[k]);
+        }
+    }
+    spacing
 }
 
 /// The smallest dihedral angle of each tetrahedron, in degrees (a cell field for `.vtu`).

@@ -1323,3 +1323,28 @@ fn a_seed_on_the_surface_is_an_error() {
     let volume = run.quality.total_volume;
     assert!((volume - 1.0).abs() < 1e-12, "{volume}");
 }
+
+/// Where the Delaunay restoration triangulates the points again, they keep the spacing point
+/// generation gave them (the rebuilt mesh had it only for its surface: a torus lost it at 447
+/// of its points, and its `.vtu` was written without the `spacing` field, so it could not
+/// serve as the next run's background mesh).
+#[test]
+fn points_keep_their_spacing_when_the_restoration_triangulates_again() {
+    let mut retriangulated = 0;
+    for seed in 1..=4 {
+        let plc = spiky_star(seed, 80, 0.4);
+        let run = mesh_plc3(&plc, &MeshOptions3::default()).unwrap();
+        if !matches!(run.restoration, Some(Restoration3::Retriangulated { .. })) {
+            continue;
+        }
+        retriangulated += 1;
+        for &v in &run.arrays.vertex {
+            let h = run.mesh.spacing.get(v.index()).copied().unwrap_or(f64::NAN);
+            assert!(
+                h > 0.0 && h.is_finite(),
+                "seed {seed}: vertex {v:?} spacing {h}"
+            );
+        }
+    }
+    assert!(retriangulated > 0);
+}
