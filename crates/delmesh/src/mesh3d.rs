@@ -97,6 +97,13 @@ pub struct MeshOptions3 {
     /// surface's long thin triangles (an STL export) otherwise make flat tetrahedra however
     /// many field points are added; the field points' spacing follows the new surface's.
     pub surface_spacing: Option<f64>,
+    /// Whether a background mesh (or an adaptation's) asking for a finer spacing than the
+    /// surface's triangles splits them first, each to the finest spacing the background asks
+    /// on it (sampled; a triangle whose edges are all within 1.5 times that stays whole), by
+    /// the same in-plane meshing as volume limits (default true): a 12-triangle unit cube
+    /// under a background spacing of 0.1 kept its triangles, and generation and refinement
+    /// piled thousands of points against them. Off, the surface is meshed as given.
+    pub split_surface: bool,
     /// Radius–edge refinement after point generation (`None`: none; needs generation).
     pub refinement: Option<QualityRefinement3>,
     /// Laplacian smoothing of the field points (`None`: no smoothing).
@@ -124,6 +131,7 @@ impl Default for MeshOptions3 {
             merge_coplanar: false,
             coplanar_fallback: true,
             surface_spacing: None,
+            split_surface: true,
             refinement: Some(QualityRefinement3::default()),
             smoothing: Some(Smoother3::new().iterations(SMOOTHING_PASSES)),
             delaunay: true,
@@ -323,6 +331,35 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
     } else {
         plc
     };
+    // A background mesh finer than the surface splits it, each triangle to the finest spacing
+    // the background asks on it (as volume limits do, below).
+    let background_split;
+    let plc = match (&options.spacing, &options.generation) {
+        (Spacing3::Background(bg), Some(_)) if options.split_surface => {
+            // In rounds, each triangle to at most half its size: the surface grades as the
+            // background does (one split to the finest spacing on a large triangle was
+            // uniform across it).
+            let mut split: Option<Plc3> = None;
+            for _ in 0..BACKGROUND_SPLIT_ROUNDS {
+                let now = split.as_ref().unwrap_or(plc);
+                let caps = background_caps(bg, now);
+                match split_surface(now, |k| caps[k])? {
+                    Some(next) => split = Some(next),
+                    None => break,
+                }
+            }
+            lap("surface spacing", &mut timings);
+            match split {
+                Some(p) => {
+                    background_split = p;
+                    remeshed = true;
+                    &background_split
+                }
+                None => plc,
+            }
+        }
+        _ => plc,
+    };
     // Regional volume limits are honoured when points are generated: generation's spacing is
     // capped there, and too large tetrahedra are split.
     let base = u64::from(plc.first_index);
@@ -368,7 +405,8 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
                 ),
             },
             (e @ RecoveryError::Surface(_), None) if remeshed => Error::Internal(format!(
-                "the surface split for the spacing sources fails the surface checks: {e}"
+                "the surface split for the spacing sources or background mesh fails the \
+                 surface checks: {e}"
             )),
             (e, _) => e.into(),
         })?;
@@ -390,7 +428,7 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
             }
             let caps = facet_caps(&mesh, &limits.spacing_caps());
             let cap_of = |t: &SurfaceTriangle| caps.get(&t.facet).copied();
-            match split_surface(plc, |t| cap_of(t).unwrap_or(f64::INFINITY))? {
+            match split_surface(plc, |k| cap_of(&plc.triangles[k]).unwrap_or(f64::INFINITY))? {
                 Some(p) => {
                     split = p;
                     mesh = recovery.run(&split)?;
@@ -1296,6 +1334,56 @@ fn fill_spacing(mut spacing: Vec<f64>, a: &MeshArrays3) -> Vec<f64> {
         }
     }
     spacing
+}
+
+/// The most rounds of background splits (each halves a triangle at most: 8 rounds take a
+/// triangle 256 spacings long to the spacing).
+const BACKGROUND_SPLIT_ROUNDS: usize = 8;
+
+/// For each surface triangle, the cap [`split_surface`] splits it to in one round: half its
+/// longest edge where that is over four times the finest spacing `background` asks on it (the
+/// rounds grade), else that spacing; or infinity (no split) where no edge is longer than one
+/// and a half times it (as 2D boundary edges stay whole: a surface made at about the
+/// background's spacing is kept).
+/// The spacing is sampled at its corners, edge mid-points and centroid, then on a finer grid
+/// where the triangle is larger than it.
+fn background_caps(background: &BackgroundMesh3, plc: &Plc3) -> Vec<f64> {
+    plc.triangles
+        .par_iter()
+        .map(|t| {
+            let p = t.v.map(|i| plc.points[i as usize]);
+            let at = |w: [f64; 3]| {
+                background
+                    .spacing_at([0, 1, 2].map(|k| w[0] * p[0][k] + w[1] * p[1][k] + w[2] * p[2][k]))
+            };
+            // Barycentric grid of k subdivisions.
+            let finest = |k: usize| {
+                let mut h = f64::INFINITY;
+                for i in 0..=k {
+                    for j in 0..=k - i {
+                        let (a, b) = (i as f64 / k as f64, j as f64 / k as f64);
+                        h = h.min(at([a, b, 1.0 - a - b]));
+                    }
+                }
+                h.min(at([1.0 / 3.0; 3]))
+            };
+            let longest = (0..3)
+                .map(|k| crate::geometry3::dist(p[k], p[(k + 1) % 3]))
+                .fold(0.0, f64::max);
+            let mut h = finest(2);
+            if longest > h {
+                let k = (2.0 * longest / h).ceil().clamp(2.0, 16.0) as usize;
+                h = h.min(finest(k));
+            }
+            if longest > 4.0 * h {
+                0.5 * longest
+            } else if longest > 1.5 * h {
+                h
+            } else {
+                f64::INFINITY
+            }
+        })
+        .collect()
 }
 
 /// The smallest dihedral angle of each tetrahedron, in degrees (a cell field for `.vtu`).

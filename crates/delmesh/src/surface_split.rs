@@ -55,19 +55,30 @@ pub(crate) fn facet_caps(mesh: &Mesh3, caps: &[f64]) -> HashMap<u32, f64> {
     out
 }
 
-/// `plc` with every triangle whose cap (`cap_of`: a spacing, or infinite for none) is smaller
-/// than its edges split to that spacing; `None` if no triangle needs it.
+/// `plc` with every triangle whose cap (`cap_of(k)` for triangle `k`: a spacing, or infinite
+/// for none) is smaller than its edges split to that spacing; `None` if no triangle needs it.
+/// Points repeated in `plc` (an STL file's, or a surface remeshed before) are taken as one, so
+/// that the triangles on either side of an edge split it alike.
 ///
 /// # Errors
 /// Only if meshing a triangle in its plane fails, which would be a bug.
 pub(crate) fn split_surface(
     plc: &Plc3,
-    cap_of: impl Fn(&SurfaceTriangle) -> f64 + Sync,
+    cap_of: impl Fn(usize) -> f64 + Sync,
 ) -> Result<Option<Plc3>, Error> {
+    let first = first_occurrences(&plc.points);
+    let tris: Vec<SurfaceTriangle> = plc
+        .triangles
+        .iter()
+        .map(|t| SurfaceTriangle {
+            v: t.v.map(|i| first[i as usize]),
+            ..*t
+        })
+        .collect();
     // Pieces of each edge (by sorted ends): enough for the finest triangle on it.
     let mut pieces: HashMap<(u32, u32), usize> = HashMap::new();
-    for t in &plc.triangles {
-        let cap = cap_of(t);
+    for (k, t) in tris.iter().enumerate() {
+        let cap = cap_of(k);
         if !cap.is_finite() {
             continue;
         }
@@ -120,13 +131,16 @@ pub(crate) fn split_surface(
         ring
     };
     let points = &out.points;
-    let meshes: Vec<Option<RingMesh>> = plc
-        .triangles
+    let meshes: Vec<Option<RingMesh>> = tris
         .par_iter()
-        .map(|t| {
-            let cap = cap_of(t);
+        .enumerate()
+        .map(|(k, t)| {
+            let cap = cap_of(k);
             let ring = ring_of(t);
-            if !cap.is_finite() || ring.len() == 3 {
+            // A triangle with no cap whose edge a neighbour's cap split is meshed too (at the
+            // spacing of its edges), or the surface would have a hanging point there: a wall
+            // between a limited region and an unlimited one made the surface "not closed".
+            if ring.len() == 3 {
                 return Ok(None);
             }
             let p = t.v.map(|i| plc.points[i as usize]);
@@ -142,18 +156,16 @@ pub(crate) fn split_surface(
             Ok(Some((ring, triangles)))
         })
         .collect::<Result<_, Error>>()?;
-    for (t, meshed) in plc.triangles.iter().zip(meshes) {
+    for (t, meshed) in tris.iter().zip(meshes) {
         let Some((ring, triangles)) = meshed else {
             out.triangles.push(*t);
             continue;
         };
+        let mut new = NewPoints::default();
         for v in triangles {
             let v = v.map(|x| match x {
                 Corner::Ring(k) => ring[k],
-                Corner::New(q) => {
-                    out.points.push(q);
-                    out.points.len() as u32 - 1
-                }
+                Corner::New(q) => new.id(q, &mut out.points),
             });
             out.triangles.push(SurfaceTriangle { v, ..*t });
         }
@@ -206,6 +218,22 @@ type RingMesh = (Vec<u32>, Vec<[Corner; 3]>);
 enum Corner {
     Ring(usize),
     New([f64; 3]),
+}
+
+/// The new points of one in-plane mesh, each added to the surface once however many of its
+/// triangles share it (they were added once per triangle corner, and merged back as
+/// duplicates by recovery, which reported them as the user's).
+#[derive(Default)]
+struct NewPoints(HashMap<[u64; 3], u32>);
+
+impl NewPoints {
+    /// The id of `q` in `points`, adding it the first time.
+    fn id(&mut self, q: [f64; 3], points: &mut Vec<[f64; 3]>) -> u32 {
+        *self.0.entry(q.map(f64::to_bits)).or_insert_with(|| {
+            points.push(q);
+            points.len() as u32 - 1
+        })
+    }
 }
 
 /// The spacing a surface is remeshed to: a uniform spacing `h` (infinite: none) and the
@@ -592,13 +620,11 @@ pub(crate) fn remesh_surface(plc: &Plc3, sizing: &SurfaceSizing) -> Result<Optio
         };
         let first = tris[members[0] as usize];
         let facet = members.iter().map(|&t| tris[t as usize].facet).min();
+        let mut new = NewPoints::default();
         for v in triangles {
             let v = v.map(|x| match x {
                 Corner::Ring(k) => ids[k],
-                Corner::New(q) => {
-                    out.points.push(q);
-                    out.points.len() as u32 - 1
-                }
+                Corner::New(q) => new.id(q, &mut out.points),
             });
             out.triangles.push(SurfaceTriangle {
                 v,

@@ -1348,3 +1348,86 @@ fn points_keep_their_spacing_when_the_restoration_triangulates_again() {
     }
     assert!(retriangulated > 0);
 }
+
+/// The surface split for a volume limit keeps the surface closed where a limited region meets
+/// an unlimited one (the unlimited side's triangles on a split edge were kept whole: "the
+/// surface is not closed"), and when the surface was remeshed to a spacing before (its
+/// points repeated, one copy per patch, so the two sides of an edge did not split it alike).
+#[test]
+fn a_volume_limit_in_one_region_keeps_the_surface_closed() {
+    let mut plc = geometry3::blocks(2, 1);
+    plc.regions[0].max_volume = Some(1e-3);
+    for surface_spacing in [None, Some(0.3)] {
+        let options = MeshOptions3 {
+            surface_spacing,
+            ..MeshOptions3::default()
+        };
+        let run = mesh_plc3(&plc, &options)
+            .unwrap_or_else(|e| panic!("surface spacing {surface_spacing:?}: {e}"));
+        check_enclosing(&plc, &run, 1, true, 2.0);
+        let a = &run.arrays;
+        for (t, &region) in a.tets.iter().zip(&a.regions) {
+            let p = t.map(|i| a.coords[i as usize]);
+            let v = tet_volume(p[0], p[1], p[2], p[3]);
+            assert!(region != 1.0 || v <= 1e-3, "volume {v} in region 1");
+        }
+        assert_eq!(run.volume_limit_exceeded, 0);
+    }
+}
+
+/// A background mesh finer than the surface splits it (as sources and volume limits do): a
+/// 12-triangle unit cube under a background spacing of 0.1 kept its triangles, and refinement
+/// piled points against them (5,132 points, most next to the surface).
+#[test]
+fn a_background_mesh_finer_than_the_surface_splits_it() {
+    use delmesh::mesh3d::Spacing3;
+    use delmesh::point_gen::BackgroundMesh3;
+    let plc = geometry3::blocks(1, 1);
+    // Six tetrahedra around the diagonal of the box [-1, 2]^3, spacing 0.1 everywhere.
+    let corners: Vec<[f64; 3]> = (0..8)
+        .map(|i| [i & 1, (i >> 1) & 1, (i >> 2) & 1].map(|b| if b == 1 { 2.0 } else { -1.0 }))
+        .collect();
+    let tets = [
+        [0, 1, 3, 7],
+        [0, 3, 2, 7],
+        [0, 2, 6, 7],
+        [0, 6, 4, 7],
+        [0, 4, 5, 7],
+        [0, 5, 1, 7],
+    ];
+    let background = BackgroundMesh3::new(corners, tets.to_vec(), vec![0.1; 8]).unwrap();
+    let options = MeshOptions3 {
+        spacing: Spacing3::Background(Box::new(background)),
+        ..MeshOptions3::default()
+    };
+    let run = mesh_plc3(&plc, &options).unwrap();
+    check_enclosing(&plc, &run, 1, true, 1.0);
+    let a = &run.arrays;
+    // About 10 pieces per edge: some 600 triangles a side would be 3,600; at least 100 a side.
+    assert!(a.faces.len() > 600, "{} boundary triangles", a.faces.len());
+    assert!(a.coords.len() < 2_000, "{} points", a.coords.len());
+    let slivers = a
+        .tets
+        .iter()
+        .filter(|t| {
+            let p = t.map(|i| a.coords[i as usize]);
+            tet_volume(p[0], p[1], p[2], p[3]) < 1e-3 * longest_edge(p).powi(3)
+        })
+        .count();
+    assert!(
+        slivers * 100 < a.tets.len(),
+        "{slivers} of {}",
+        a.tets.len()
+    );
+    // Kept as given on request.
+    let kept = mesh_plc3(
+        &plc,
+        &MeshOptions3 {
+            split_surface: false,
+            ..options
+        },
+    )
+    .unwrap();
+    check_enclosing(&plc, &kept, 1, true, 1.0);
+    assert!(kept.arrays.faces.len() < 100, "{}", kept.arrays.faces.len());
+}

@@ -22,7 +22,8 @@
 //! - markers: in 2.2 an element's first tag is its physical tag (0 or no tags: marker 0); in
 //!   4.1 an element block's entity is looked up in `$Entities` and its first physical tag is
 //!   the marker (no physical tag, or no `$Entities`: 0). Tetrahedra get their region the same
-//!   way.
+//!   way. A surface group named `marker_<m>` with `m <= 0` (how this writer names them) is
+//!   marker `m`.
 //! - node tags may be any positive integers in any order; points are numbered in file order.
 //!   Records are read one per line, as gmsh and every other writer we know write them.
 //!
@@ -262,10 +263,29 @@ impl MshData {
             tets,
             ..
         } = self;
-        let marker = |dim: i32, tag: i32| match version {
+        // delmesh writes a marker m <= 0 as the next free physical tag, named `marker_<m>`
+        // (gmsh's tags are positive): read back as m, so that its files round-trip.
+        let renamed: HashMap<i32, i32> = marker_names
+            .iter()
+            .filter_map(|(tag, name)| {
+                let m: i32 = name.strip_prefix("marker_")?.parse().ok()?;
+                (m <= 0 && m != *tag).then_some((*tag, m))
+            })
+            .collect();
+        let physical = |dim: i32, tag: i32| match version {
             Version::V2 => tag,
             Version::V41 => entity_physical.get(&(dim, tag)).copied().unwrap_or(0),
         };
+        let marker = |dim: i32, tag: i32| {
+            let t = physical(dim, tag);
+            match dim {
+                2 => renamed.get(&t).copied().unwrap_or(t),
+                _ => t,
+            }
+        };
+        for (tag, _) in &mut marker_names {
+            *tag = renamed.get(tag).copied().unwrap_or(*tag);
+        }
         marker_names.sort();
         SurfaceFile {
             points,
