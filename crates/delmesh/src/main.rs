@@ -102,12 +102,13 @@ struct MeshArgs {
     /// domain are dropped (the paper's points from component meshes).
     #[arg(long, value_name = "FILE")]
     points: Option<PathBuf>,
-    /// Background mesh giving the spacing: a .vtu with a point field (see --field) or a
-    /// Triangle .ele whose .node has one attribute.
+    /// Background mesh giving the spacing: a .vtu or legacy .vtk with a point field (see
+    /// --field; any linear cells), or a Triangle .ele whose .node has one attribute.
     #[arg(long, value_name = "MESH", conflicts_with = "adapt")]
     background: Option<PathBuf>,
-    /// Adapt to a previous solution: a .vtu mesh whose point field --field (e.g. pressure or
-    /// Mach) is turned into spacing by its gradient, between --min-spacing and --max-spacing.
+    /// Adapt to a previous solution: a .vtu or legacy .vtk mesh whose point field --field (e.g.
+    /// pressure or Mach) is turned into spacing by its gradient, between --min-spacing and
+    /// --max-spacing.
     #[arg(long, value_name = "MESH", requires_all = ["min_spacing", "max_spacing"])]
     adapt: Option<PathBuf>,
     /// The point field of --background (default `spacing`) or --adapt.

@@ -551,12 +551,13 @@ fn read_field(path: &Path, field: &str) -> Result<(FieldData, (PathBuf, u32)), E
         .to_ascii_lowercase();
     let mesh = match ext.as_str() {
         "vtu" => delmesh_io::read_vtu(path)?,
+        "vtk" => delmesh_io::read_vtk_legacy(path)?,
         "ele" => delmesh_io::read_triangle_mesh(path)?,
         _ => {
             return Err(Error::UnsupportedFormat {
                 file: path.to_path_buf(),
                 ext: format!(".{ext}"),
-                supported: ".vtu, .ele",
+                supported: ".vtu, .vtk, .ele",
             })
         }
     };

@@ -1271,14 +1271,17 @@ pub fn read_adaptation3(
 type FieldData3 = (Vec<[f64; 3]>, Vec<[u32; 4]>, Vec<f64>);
 
 fn read_field3(path: &Path, field: &str) -> Result<FieldData3, Error> {
-    if extension(path) != "vtu" {
-        return Err(Error::UnsupportedFormat {
-            file: path.to_path_buf(),
-            ext: format!(".{}", extension(path)),
-            supported: ".vtu",
-        });
-    }
-    let mesh = delmesh_io::read_vtu(path)?;
+    let mesh = match extension(path).as_str() {
+        "vtu" => delmesh_io::read_vtu(path)?,
+        "vtk" => delmesh_io::read_vtk_legacy(path)?,
+        ext => {
+            return Err(Error::UnsupportedFormat {
+                file: path.to_path_buf(),
+                ext: format!(".{ext}"),
+                supported: ".vtu, .vtk",
+            })
+        }
+    };
     if mesh.dim != 3 {
         return Err(Error::MeshDimension {
             file: path.to_path_buf(),

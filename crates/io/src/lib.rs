@@ -71,6 +71,7 @@ mod tetgen_plc;
 mod tetmesh;
 mod text;
 mod triangle;
+mod vtk_legacy;
 mod vtu;
 mod vtu_read;
 mod xyz;
@@ -96,6 +97,7 @@ pub use tetgen_plc::{
 pub use tetmesh::{write_tet_mesh, TetMeshOut};
 pub use triangle::{read_triangle_mesh, write_triangle_family, TriangleMeshOut};
 pub use vtu::{
-    read_vtu, write_tet_mesh_vtu, write_tet_mesh_vtu_with, write_vtu, write_vtu_polygons, FieldMesh,
+    read_vtk_legacy, read_vtu, write_tet_mesh_vtu, write_tet_mesh_vtu_with, write_vtu,
+    write_vtu_polygons, FieldMesh,
 };
 pub use xyz::{parse_xyz, read_points, read_xyz};

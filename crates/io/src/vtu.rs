@@ -51,6 +51,30 @@ pub struct FieldMesh {
 pub fn read_vtu(path: &Path) -> Result<FieldMesh, IoError> {
     let bytes = std::fs::read(path).map_err(|e| IoError::io(path, e))?;
     let piece = crate::vtu_read::parse_vtu(&bytes).map_err(|m| IoError::invalid(path, m))?;
+    field_mesh(path, piece)
+}
+
+/// Reads a legacy VTK file (`.vtk`, ASCII or binary, versions 2.0 to 5.1, as VTK, ParaView and
+/// OpenFOAM's `foamToVTK` write them) of an unstructured grid, as [`read_vtu`] reads a `.vtu`
+/// (see [`crate::vtk_legacy`]).
+///
+/// # Errors
+/// As [`read_vtu`]; also another data set type.
+pub fn read_vtk_legacy(path: &Path) -> Result<FieldMesh, IoError> {
+    let bytes = std::fs::read(path).map_err(|e| IoError::io(path, e))?;
+    let piece =
+        crate::vtk_legacy::parse_vtk_legacy(&bytes).map_err(|m| IoError::invalid(path, m))?;
+    field_mesh(path, piece)
+}
+
+/// The mesh of a read piece: its cells split into simplices, its point fields by component.
+fn field_mesh(path: &Path, piece: crate::vtu_read::VtuPiece) -> Result<FieldMesh, IoError> {
+    if piece.points.len() % 3 != 0 {
+        return Err(IoError::invalid(
+            path,
+            "point coordinates are not 3 per point",
+        ));
+    }
     let xyz = piece.points;
     let n_points = xyz.len() / 3;
     if let Some(i) = xyz.iter().position(|x| !x.is_finite()) {
@@ -97,6 +121,9 @@ pub fn read_vtu(path: &Path) -> Result<FieldMesh, IoError> {
     };
     let mut point_fields = Vec::new();
     for (name, comps, values) in piece.point_data {
+        if values.len() != comps * n_points {
+            continue;
+        }
         if comps == 1 {
             point_fields.push((name, values));
         } else {

@@ -441,7 +441,7 @@ impl Array {
 
 /// The number types of VTK data arrays.
 #[derive(Clone, Copy)]
-enum Scalar {
+pub(crate) enum Scalar {
     I8,
     U8,
     I16,
@@ -471,7 +471,7 @@ impl Scalar {
         })
     }
 
-    fn size(self) -> usize {
+    pub(crate) fn size(self) -> usize {
         match self {
             Scalar::I8 | Scalar::U8 => 1,
             Scalar::I16 | Scalar::U16 => 2,
@@ -481,7 +481,7 @@ impl Scalar {
     }
 
     /// The values of `bytes` (whole values only) as numbers.
-    fn decode(self, bytes: &[u8], big_endian: bool) -> Result<Vec<f64>, String> {
+    pub(crate) fn decode(self, bytes: &[u8], big_endian: bool) -> Result<Vec<f64>, String> {
         let size = self.size();
         if bytes.len() % size != 0 {
             return Err(format!(

@@ -162,3 +162,74 @@ fn linear_cells_are_split_into_simplices() {
         "{e}"
     );
 }
+
+fn legacy(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/vtk-legacy")
+        .join(name)
+}
+
+/// Legacy `.vtk` files as VTK 9 writes them (versions 4.2 and 5.1, ASCII and binary): the same
+/// mesh and fields as the `.vtu` files, and a 3D mesh of mixed cells split as there.
+#[test]
+fn legacy_vtk_files_read_as_the_xml_ones() {
+    let reference = read_vtu(&fixtures()[0]).unwrap();
+    for name in [
+        "vtk-legacy-ascii.vtk",
+        "vtk-legacy-binary.vtk",
+        "vtk-legacy-51.vtk",
+        "vtk-legacy-51-binary.vtk",
+    ] {
+        let m = delmesh_io::read_vtk_legacy(&legacy(name)).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(m.dim, 2, "{name}");
+        assert_eq!(m.coords, reference.coords, "{name}");
+        assert_eq!(m.cells, reference.cells, "{name}");
+        for field in ["spacing", "velocity_0", "velocity_1", "velocity_2"] {
+            let get = |m: &delmesh_io::FieldMesh| {
+                m.point_fields
+                    .iter()
+                    .find(|(f, _)| f == field)
+                    .unwrap_or_else(|| panic!("{name}: no {field}"))
+                    .1
+                    .clone()
+            };
+            // (ASCII legacy files carry about 7 significant digits.)
+            for (a, b) in get(&m).iter().zip(get(&reference)) {
+                assert!(
+                    (a - b).abs() <= 1e-6 * b.abs(),
+                    "{name} {field}: {a} vs {b}"
+                );
+            }
+        }
+    }
+    let vtu = read_vtu(&cells_fixture("mixed-3d.vtu")).unwrap();
+    for name in ["mixed-3d-42-binary.vtk", "mixed-3d-51.vtk"] {
+        let m = delmesh_io::read_vtk_legacy(&legacy(name)).unwrap();
+        assert_eq!(m.cells, vtu.cells, "{name}");
+        assert_eq!(m.coords, vtu.coords, "{name}");
+    }
+    // Damaged: an error naming the file, never a panic.
+    let dir = tempfile::tempdir().unwrap();
+    for name in [
+        "vtk-legacy-binary.vtk",
+        "vtk-legacy-51.vtk",
+        "mixed-3d-42-binary.vtk",
+    ] {
+        let bytes = std::fs::read(legacy(name)).unwrap();
+        let path = dir.path().join(name);
+        for at in (0..bytes.len()).step_by(7) {
+            for x in [b'0', b'\n', 0xff] {
+                let mut b = bytes.clone();
+                b[at] = x;
+                std::fs::write(&path, &b).unwrap();
+                if let Err(e) = delmesh_io::read_vtk_legacy(&path) {
+                    assert!(e.to_string().contains(name), "{e}");
+                }
+            }
+            std::fs::write(&path, &bytes[..at]).unwrap();
+            if let Err(e) = delmesh_io::read_vtk_legacy(&path) {
+                assert!(e.to_string().contains(name), "{e}");
+            }
+        }
+    }
+}
