@@ -1,9 +1,9 @@
 //! Reading legacy VTK files (`.vtk`) of unstructured grids, ASCII or binary, in both layouts:
 //! version 2.0 to 4.2 (`CELLS n size` with each cell's point count before its points, as
 //! OpenFOAM's `foamToVTK` writes) and 5.1 (`CELLS` as `OFFSETS` and `CONNECTIVITY` arrays, VTK
-//! 9's and ParaView's default). vtkio reads only the first. Point fields come from
-//! `SCALARS`, `VECTORS`, `NORMALS` and `FIELD` data; cell data and everything after it are
-//! left. Binary data is big-endian, as the format says.
+//! 9's and ParaView's default). vtkio reads only the first. Point and cell fields come from
+//! `SCALARS`, `VECTORS`, `NORMALS` and `FIELD` data (other attributes are refused). Binary
+//! data is big-endian, as the format says.
 
 use crate::vtu_read::{Scalar, VtuPiece};
 
@@ -32,9 +32,10 @@ pub(crate) fn parse_vtk_legacy(bytes: &[u8]) -> Result<VtuPiece, String> {
         offsets: Vec::new(),
         types: Vec::new(),
         point_data: Vec::new(),
+        cell_data: Vec::new(),
     };
-    let mut n_points = 0;
-    let mut in_point_data = false;
+    // The attributes being read: of the points (true) or of the cells (false), and their count.
+    let mut section: Option<(bool, usize)> = None;
     while let Some(line) = r.keyword_line()? {
         let f: Vec<&str> = line.split_whitespace().collect();
         let count = |k: usize| -> Result<usize, String> {
@@ -43,10 +44,7 @@ pub(crate) fn parse_vtk_legacy(bytes: &[u8]) -> Result<VtuPiece, String> {
                 .ok_or_else(|| format!("'{line}': a count expected"))
         };
         match f[0] {
-            "POINTS" => {
-                n_points = count(1)?;
-                piece.points = r.values(3 * n_points, scalar(f.get(2))?, binary)?;
-            }
+            "POINTS" => piece.points = r.values(3 * count(1)?, scalar(f.get(2))?, binary)?,
             "CELLS" => {
                 let (n, size) = (count(1)?, count(2)?);
                 // 5.1: OFFSETS and CONNECTIVITY follow; before: counts and points.
@@ -84,10 +82,16 @@ pub(crate) fn parse_vtk_legacy(bytes: &[u8]) -> Result<VtuPiece, String> {
                 }
             }
             "CELL_TYPES" => piece.types = r.values(count(1)?, Scalar::I32, binary)?,
-            "POINT_DATA" => in_point_data = true,
-            "CELL_DATA" => break,
+            "POINT_DATA" => section = Some((true, count(1)?)),
+            "CELL_DATA" => section = Some((false, count(1)?)),
             "METADATA" => r.skip_metadata()?,
-            "SCALARS" | "VECTORS" | "NORMALS" | "FIELD" if in_point_data => {
+            "SCALARS" | "VECTORS" | "NORMALS" | "FIELD" if section.is_some() => {
+                let (of_points, n) = section.expect("a data section");
+                let list = if of_points {
+                    &mut piece.point_data
+                } else {
+                    &mut piece.cell_data
+                };
                 let name = f.get(1).copied().unwrap_or("").to_string();
                 match f[0] {
                     "SCALARS" => {
@@ -101,12 +105,12 @@ pub(crate) fn parse_vtk_legacy(bytes: &[u8]) -> Result<VtuPiece, String> {
                         {
                             r.at = save;
                         }
-                        let values = r.values(comps * n_points, t, binary)?;
-                        piece.point_data.push((name, comps, values));
+                        let values = r.values(comps * n, t, binary)?;
+                        list.push((name, comps, values));
                     }
                     "VECTORS" | "NORMALS" => {
-                        let values = r.values(3 * n_points, scalar(f.get(2))?, binary)?;
-                        piece.point_data.push((name, 3, values));
+                        let values = r.values(3 * n, scalar(f.get(2))?, binary)?;
+                        list.push((name, 3, values));
                     }
                     _ => {
                         for _ in 0..count(2)? {
@@ -120,8 +124,8 @@ pub(crate) fn parse_vtk_legacy(bytes: &[u8]) -> Result<VtuPiece, String> {
                             let (comps, tuples) = (num(1)?, num(2)?);
                             let values = r.values(comps * tuples, scalar(g.get(3))?, binary)?;
                             r.skip_metadata_if_next()?;
-                            if tuples == n_points {
-                                piece.point_data.push((g[0].to_string(), comps, values));
+                            if tuples == n {
+                                list.push((g[0].to_string(), comps, values));
                             }
                         }
                     }

@@ -87,6 +87,12 @@ fn field_mesh(path: &Path, piece: crate::vtu_read::VtuPiece) -> Result<FieldMesh
     let dim = if flat { 2 } else { 3 };
     let connectivity = &piece.connectivity;
     let mut cells = Vec::with_capacity(connectivity.len());
+    // The mesh cells at each point (for cell data).
+    let mut touching: Vec<Vec<u32>> = if piece.cell_data.is_empty() {
+        Vec::new()
+    } else {
+        vec![Vec::new(); n_points]
+    };
     let mut begin = 0usize;
     for (k, (&end, &ty)) in piece.offsets.iter().zip(&piece.types).enumerate() {
         let end = end as usize;
@@ -107,12 +113,21 @@ fn field_mesh(path: &Path, piece: crate::vtu_read::VtuPiece) -> Result<FieldMesh
             nodes.push(v as u32);
         }
         begin = end;
+        let before = cells.len();
         split_cell(ty, &nodes, dim, &mut cells).map_err(|m| {
             IoError::invalid(
                 path,
                 format!("cell {k} (VTK type {ty}, {} points): {m}", nodes.len()),
             )
         })?;
+        // A cell of the mesh (not a point, line or face) spreads its cell data to its points.
+        if cells.len() > before && !touching.is_empty() {
+            nodes.sort_unstable();
+            nodes.dedup();
+            for &v in &nodes {
+                touching[v as usize].push(k as u32);
+            }
+        }
     }
     let coords = if dim == 3 {
         xyz
@@ -133,6 +148,41 @@ fn field_mesh(path: &Path, piece: crate::vtu_read::VtuPiece) -> Result<FieldMesh
                     values.iter().skip(c).step_by(comps).copied().collect(),
                 ));
             }
+        }
+    }
+    // Cell data (a finite-volume solver's cell-centred fields) as point fields: at each point
+    // the mean of the cells around it; a point field of the same name is kept instead.
+    let n_cells = piece.offsets.len();
+    for (name, comps, values) in piece.cell_data {
+        if values.len() != comps * n_cells
+            || point_fields
+                .iter()
+                .any(|(n, _)| *n == name || n.starts_with(&format!("{name}_")))
+        {
+            continue;
+        }
+        for c in 0..comps {
+            let mean_of = |cells: &mut dyn Iterator<Item = usize>| {
+                let (sum, n) = cells.fold((0.0, 0usize), |(s, n), k| {
+                    (s + values[k * comps + c], n + 1)
+                });
+                sum / n as f64
+            };
+            // (A point in no cell, which nothing interpolates from, takes the mean.)
+            let everywhere = mean_of(&mut (0..n_cells));
+            let at_points: Vec<f64> = touching
+                .iter()
+                .map(|around| match around.len() {
+                    0 => everywhere,
+                    _ => mean_of(&mut around.iter().map(|&k| k as usize)),
+                })
+                .collect();
+            let name = if comps == 1 {
+                name.clone()
+            } else {
+                format!("{name}_{c}")
+            };
+            point_fields.push((name, at_points));
         }
     }
     Ok(FieldMesh {

@@ -25,6 +25,8 @@ pub(crate) struct VtuPiece {
     pub(crate) types: Vec<f64>,
     /// Point data arrays: name, components, values (point after point).
     pub(crate) point_data: Vec<(String, usize, Vec<f64>)>,
+    /// Cell data arrays: name, components, values (cell after cell).
+    pub(crate) cell_data: Vec<(String, usize, Vec<f64>)>,
 }
 
 /// Reads the piece of a `.vtu` file given as bytes; errors are messages for the file.
@@ -155,12 +157,21 @@ pub(crate) fn parse_vtu(bytes: &[u8]) -> Result<VtuPiece, String> {
             data(a, a.components * n_points)?,
         ));
     }
+    let mut cell_data = Vec::new();
+    for a in arrays.iter().filter(|a| a.section == "CellData") {
+        cell_data.push((
+            a.name.clone(),
+            a.components,
+            data(a, a.components * n_cells)?,
+        ));
+    }
     Ok(VtuPiece {
         points,
         connectivity,
         offsets: offsets_of_cells,
         types,
         point_data,
+        cell_data,
     })
 }
 

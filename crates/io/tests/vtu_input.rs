@@ -233,3 +233,53 @@ fn legacy_vtk_files_read_as_the_xml_ones() {
         }
     }
 }
+
+/// A finite-volume solver's cell-centred fields (cell data only) become point fields, each
+/// point the mean of the cells around it, so that `--adapt --field mach` finds them; a point
+/// field of the same name wins.
+#[test]
+fn cell_data_becomes_point_data() {
+    for name in ["cell-data.vtu", "cell-data.vtk"] {
+        let path = cells_fixture(name);
+        let m = if name.ends_with("vtu") {
+            read_vtu(&path)
+        } else {
+            delmesh_io::read_vtk_legacy(&path)
+        }
+        .unwrap_or_else(|e| panic!("{e}"));
+        let field = |n: &str| {
+            m.point_fields
+                .iter()
+                .find(|(f, _)| f == n)
+                .unwrap_or_else(|| panic!("{name}: no {n}"))
+                .1
+                .clone()
+        };
+        // Cell k has mach k; the cells around each point of the 3 x 3 grid.
+        let mut around = vec![Vec::new(); 9];
+        for (k, t) in m.cells.chunks(3).enumerate() {
+            for &v in t {
+                around[v as usize].push(k as f64);
+            }
+        }
+        let mean: Vec<f64> = around
+            .iter()
+            .map(|a| a.iter().sum::<f64>() / a.len() as f64)
+            .collect();
+        assert_eq!(field("mach"), mean, "{name}");
+        assert_eq!(field("momentum_0"), vec![1.0; 9], "{name}");
+        assert_eq!(
+            field("momentum_1"),
+            mean.iter().map(|x| -x).collect::<Vec<_>>(),
+            "{name}"
+        );
+        assert!(field("spacing").iter().all(|&h| h < 1.0), "{name}");
+        assert_eq!(
+            m.point_fields
+                .iter()
+                .filter(|(f, _)| f == "spacing")
+                .count(),
+            1
+        );
+    }
+}
