@@ -35,9 +35,11 @@ use delmesh_smoothing::{
 };
 use rayon::prelude::*;
 
+use crate::geometry3::{cross, dot, sub};
 use crate::sources::check_sources3;
 use crate::surface_split::{
     check_surface_spacing, facet_caps, remesh_surface, split_surface, SurfaceSizing,
+    MAX_SPACED_TRIANGLES,
 };
 use crate::{units, Error};
 
@@ -98,11 +100,12 @@ pub struct MeshOptions3 {
     /// many field points are added; the field points' spacing follows the new surface's.
     pub surface_spacing: Option<f64>,
     /// Whether a background mesh (or an adaptation's) asking for a finer spacing than the
-    /// surface's triangles splits them first, each to the finest spacing the background asks
-    /// on it (sampled; a triangle whose edges are all within 1.5 times that stays whole), by
-    /// the same in-plane meshing as volume limits (default true): a 12-triangle unit cube
-    /// under a background spacing of 0.1 kept its triangles, and generation and refinement
-    /// piled thousands of points against them. Off, the surface is meshed as given.
+    /// surface's triangles splits them first, in rounds that halve them until each is within
+    /// 1.5 times the finest spacing the background asks on it (sampled), by the same in-plane
+    /// meshing as volume limits (default true): a 12-triangle unit cube under a background
+    /// spacing of 0.1 kept its triangles, and generation and refinement piled thousands of
+    /// points against them. Off, or where the surface would need more than 2^24 triangles,
+    /// the surface is meshed as given.
     pub split_surface: bool,
     /// Radius–edge refinement after point generation (`None`: none; needs generation).
     pub refinement: Option<QualityRefinement3>,
@@ -342,7 +345,13 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
             let mut split: Option<Plc3> = None;
             for _ in 0..BACKGROUND_SPLIT_ROUNDS {
                 let now = split.as_ref().unwrap_or(plc);
-                let caps = background_caps(bg, now);
+                let (caps, asked) = background_caps(bg, now);
+                // A background too fine for any mesh (1e-300) would split the surface until
+                // memory ran out: kept as it is, generation then says the field is too fine.
+                if asked > MAX_SPACED_TRIANGLES {
+                    split = None;
+                    break;
+                }
                 match split_surface(now, |k| caps[k])? {
                     Some(next) => split = Some(next),
                     None => break,
@@ -1079,10 +1088,11 @@ impl MeshRun3 {
                     })
                     .collect();
                 let spacing = fill_spacing(spacing, a);
-                let point_data: Vec<(&str, &[f64])> = if spacing.is_empty() {
-                    Vec::new()
-                } else {
+                // (A point in no tetrahedron would have none: the field is left out then.)
+                let point_data: Vec<(&str, &[f64])> = if spacing.iter().all(|h| h.is_finite()) {
                     vec![("spacing", &spacing)]
+                } else {
+                    Vec::new()
                 };
                 let dihedral = min_dihedrals(a);
                 Ok(delmesh_io::write_tet_mesh_vtu_with(
@@ -1343,15 +1353,17 @@ fn fill_spacing(mut spacing: Vec<f64>, a: &MeshArrays3) -> Vec<f64> {
 /// triangle 256 spacings long to the spacing).
 const BACKGROUND_SPLIT_ROUNDS: usize = 8;
 
-/// For each surface triangle, the cap [`split_surface`] splits it to in one round: half its
+/// For each surface triangle, the cap [`split_surface`] splits it to in one round (and the
+/// number of equilateral triangles the background asks for over the whole surface): half its
 /// longest edge where that is over four times the finest spacing `background` asks on it (the
 /// rounds grade), else that spacing; or infinity (no split) where no edge is longer than one
 /// and a half times it (as 2D boundary edges stay whole: a surface made at about the
 /// background's spacing is kept).
 /// The spacing is sampled at its corners, edge mid-points and centroid, then on a finer grid
 /// where the triangle is larger than it.
-fn background_caps(background: &BackgroundMesh3, plc: &Plc3) -> Vec<f64> {
-    plc.triangles
+fn background_caps(background: &BackgroundMesh3, plc: &Plc3) -> (Vec<f64>, f64) {
+    let caps: Vec<(f64, f64)> = plc
+        .triangles
         .par_iter()
         .map(|t| {
             let p = t.v.map(|i| plc.points[i as usize]);
@@ -1378,15 +1390,20 @@ fn background_caps(background: &BackgroundMesh3, plc: &Plc3) -> Vec<f64> {
                 let k = (2.0 * longest / h).ceil().clamp(2.0, 16.0) as usize;
                 h = h.min(finest(k));
             }
-            if longest > 4.0 * h {
+            let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
+            let asked = 0.5 * dot(n, n).sqrt() / (h * h * 3f64.sqrt() / 4.0);
+            let cap = if longest > 4.0 * h {
                 0.5 * longest
             } else if longest > 1.5 * h {
                 h
             } else {
                 f64::INFINITY
-            }
+            };
+            (cap, asked)
         })
-        .collect()
+        .collect();
+    let asked = caps.iter().map(|c| c.1).sum();
+    (caps.into_iter().map(|c| c.0).collect(), asked)
 }
 
 /// The smallest dihedral angle of each tetrahedron, in degrees (a cell field for `.vtu`).

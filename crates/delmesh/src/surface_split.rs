@@ -174,7 +174,7 @@ pub(crate) fn split_surface(
 }
 
 /// Most surface triangles a surface spacing may ask for (before the field points): 2^24.
-const MAX_SPACED_TRIANGLES: f64 = (1u64 << 24) as f64;
+pub(crate) const MAX_SPACED_TRIANGLES: f64 = (1u64 << 24) as f64;
 
 /// Checks that `h` can split `plc`'s surface: a positive length (infinity splits nothing) that
 /// asks for at most 2^16 pieces of an edge and about [`MAX_SPACED_TRIANGLES`] triangles (a
