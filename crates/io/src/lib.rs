@@ -10,7 +10,8 @@
 //! | TetGen/Triangle `.node` | [`read_node`], [`parse_node`] | [`write_node`] |
 //! | TetGen/Triangle `.ele`, `.neigh` | | [`write_ele`], [`write_neigh`], [`write_tetgen_family`] |
 //! | plain text `x y [z]` | [`read_xyz`], [`parse_xyz`] | |
-//! | VTK XML `.vtu` | [`read_vtu`] (triangles/tetrahedra + point fields) | [`write_vtu`], [`write_vtu_polygons`], [`write_tet_mesh_vtu`] (3D mesh + `.boundary.vtu`) |
+//! | VTK XML `.vtu` | [`read_vtu`] (every data mode VTK writes; linear cells as triangles/tetrahedra, point and cell fields as point fields) | [`write_vtu`], [`write_vtu_polygons`], [`write_tet_mesh_vtu`] (3D mesh + `.boundary.vtu`) |
+//! | legacy VTK `.vtk` (2.0–5.1, ASCII or binary) | [`read_vtk_legacy`] (as [`read_vtu`]) | |
 //! | Triangle `.poly` (2D PSLG) | [`read_poly`], [`parse_poly`] | [`write_poly`] |
 //! | Triangle `.node/.ele/.edge` with markers | [`read_triangle_mesh`] | [`write_triangle_family`] |
 //! | SVG picture of a 2D mesh | | [`write_svg`] |

@@ -41,7 +41,7 @@ pub struct FieldMesh {
 }
 
 /// Reads a VTK XML unstructured grid (`.vtu`) with its point fields, in any data mode VTK writes
-/// (see [`crate::vtu_read`]: ASCII, inline binary, appended raw or base64, compressed or not),
+/// (the `vtu_read` module: ASCII, inline binary, appended raw or base64, compressed or not),
 /// as triangles (2D: every z is 0) or tetrahedra: other linear cells are split into them (see
 /// `split_cell`).
 ///
@@ -56,7 +56,7 @@ pub fn read_vtu(path: &Path) -> Result<FieldMesh, IoError> {
 
 /// Reads a legacy VTK file (`.vtk`, ASCII or binary, versions 2.0 to 5.1, as VTK, ParaView and
 /// OpenFOAM's `foamToVTK` write them) of an unstructured grid, as [`read_vtu`] reads a `.vtu`
-/// (see [`crate::vtk_legacy`]).
+/// (the `vtk_legacy` module).
 ///
 /// # Errors
 /// As [`read_vtu`]; also another data set type.
