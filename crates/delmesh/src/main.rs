@@ -41,7 +41,7 @@ enum Command {
     /// Delaunay triangulation (2D) or tetrahedralisation (3D) of a point file.
     Delaunay(DelaunayArgs),
     /// Mesh a 2D domain (Triangle .poly) or the volume inside a 3D surface (.smesh, 3D .poly,
-    /// .off, .stl, .obj, .mesh, .msh): boundary recovery, exterior deletion, automatic points,
+    /// .off, .stl, .obj, .ply, .mesh, .msh): boundary recovery, exterior deletion, automatic points,
     /// smoothing (the paper's whole method).
     Mesh(Box<MeshArgs>),
     /// Reproduce a figure of the paper; without NAME, list the demos.
@@ -64,7 +64,7 @@ enum RecoveryArg {
 struct MeshArgs {
     /// The domain: a Triangle .poly file (points, segments with markers, holes, regions with
     /// attributes and area limits, honoured when points are generated), or a
-    /// closed 3D surface triangulation (.smesh, 3D .poly, .off, .stl, .obj, .mesh, .msh).
+    /// closed 3D surface triangulation (.smesh, 3D .poly, .off, .stl, .obj, .ply, .mesh, .msh).
     /// Unlike Triangle, closed loops (surfaces) nested in each other alternate between domain
     /// and hole from the outside in, so a body inside a far field needs no hole seed; a
     /// region seed keeps the part it lies in.

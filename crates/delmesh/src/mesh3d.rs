@@ -982,7 +982,7 @@ impl MeshRun3 {
 }
 
 /// The input extensions [`read_plc3`] reads (a `.poly` is 3D when its nodes are).
-pub const SURFACE_INPUTS: &str = ".smesh, .poly (3D), .off, .stl, .obj, .mesh, .msh";
+pub const SURFACE_INPUTS: &str = ".smesh, .poly (3D), .off, .stl, .obj, .ply, .mesh, .msh";
 
 /// The output formats of [`MeshRun3::write`], by extension.
 pub const MESH3_OUTPUTS: &str = ".vtu, .ele (.node/.ele/.face), .msh, .mesh, .su2";
@@ -992,7 +992,7 @@ pub const MESH3_OUTPUTS: &str = ".vtu, .ele (.node/.ele/.face), .msh, .mesh, .su
 pub fn is_surface_input(path: &Path) -> bool {
     matches!(
         extension(path).as_str(),
-        "smesh" | "off" | "stl" | "obj" | "mesh" | "msh"
+        "smesh" | "off" | "stl" | "obj" | "ply" | "mesh" | "msh"
     )
 }
 

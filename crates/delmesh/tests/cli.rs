@@ -308,19 +308,15 @@ fn missing_input_is_an_error() {
 
 #[test]
 fn unknown_mesh_input_format_is_named() {
-    // A PLY surface (or any extension `mesh` does not read) was parsed as a Triangle .poly and
+    // A STEP file (or any extension `mesh` does not read) was parsed as a Triangle .poly and
     // failed on some line of it.
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(
-        dir.path().join("part.ply"),
-        "ply\nformat ascii 1.0\nelement vertex 0\nend_header\n",
-    )
-    .unwrap();
-    let msg = fails(&delmesh(dir.path(), &["mesh", "part.ply", "-o", "m.vtu"]));
+    std::fs::write(dir.path().join("part.step"), "ISO-10303-21;\nHEADER;\n").unwrap();
+    let msg = fails(&delmesh(dir.path(), &["mesh", "part.step", "-o", "m.vtu"]));
     assert_eq!(
         msg,
-        "error: part.ply: unknown input format ('.ply'): `delmesh mesh` reads a Triangle .poly \
-         (2D) or a surface (.smesh, .poly (3D), .off, .stl, .obj, .mesh, .msh)"
+        "error: part.step: unknown input format ('.step'): `delmesh mesh` reads a Triangle .poly \
+         (2D) or a surface (.smesh, .poly (3D), .off, .stl, .obj, .ply, .mesh, .msh)"
     );
     std::fs::write(dir.path().join("domain"), "3 2 0 0\n").unwrap();
     let msg = fails(&delmesh(dir.path(), &["mesh", "domain", "-o", "m.vtu"]));

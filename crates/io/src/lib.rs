@@ -20,6 +20,7 @@
 //! | Geomview `.off` | [`read_off`], [`parse_off`] | [`write_off`] |
 //! | `.stl`, ASCII and binary | [`read_stl`], [`parse_stl`] | |
 //! | Wavefront `.obj` | [`read_obj`], [`parse_obj`] | |
+//! | Stanford `.ply`, ASCII and binary | [`read_ply`], [`parse_ply`] | |
 //! | Medit `.mesh` | [`read_medit`], [`parse_medit`] (surface and tetrahedra) | [`write_medit`] |
 //! | gmsh `.msh` 2.2 / 4.1, ASCII and binary | [`read_msh`], [`parse_msh`], [`parse_msh_bytes`] (surface and tetrahedra) | [`write_msh`] (4.1 ASCII) |
 //! | SU2 `.su2` | | [`write_su2`] |
@@ -62,6 +63,7 @@ mod msh_binary;
 mod node;
 mod obj;
 mod off;
+mod ply;
 mod poly;
 mod stl;
 mod su2;
@@ -85,6 +87,7 @@ pub use msh::{parse_msh, parse_msh_bytes, read_msh, write_msh};
 pub use node::{parse_node, read_node, write_ele, write_neigh, write_node, write_tetgen_family};
 pub use obj::{parse_obj, read_obj};
 pub use off::{parse_off, read_off, write_off};
+pub use ply::{parse_ply, read_ply};
 pub use poly::{parse_poly, read_poly, write_poly, PolyFile, PolyRegion};
 pub use stl::{parse_stl, read_stl};
 pub use su2::write_su2;

@@ -87,7 +87,8 @@ impl SurfaceFile {
 
 /// Reads a 3D surface (or volume mesh) file, choosing the reader from the extension:
 /// `.smesh` and `.poly` (TetGen; a 2D Triangle `.poly` is refused with a hint), `.off`,
-/// `.stl` (ASCII or binary), `.obj`, `.mesh` (Medit), `.msh` (gmsh 2.2 / 4.1, ASCII or binary). Any other
+/// `.stl` (ASCII or binary), `.obj`, `.ply` (ASCII or binary), `.mesh` (Medit), `.msh` (gmsh
+/// 2.2 / 4.1, ASCII or binary). Any other
 /// extension is an [`IoError::UnknownFormat`].
 pub fn read_surface(path: &Path) -> Result<SurfaceFile, IoError> {
     let ext = path
@@ -100,6 +101,7 @@ pub fn read_surface(path: &Path) -> Result<SurfaceFile, IoError> {
         Some("off") => crate::read_off(path),
         Some("stl") => crate::read_stl(path),
         Some("obj") => crate::read_obj(path),
+        Some("ply") => crate::read_ply(path),
         Some("mesh") => crate::read_medit(path),
         Some("msh") => crate::read_msh(path),
         _ => Err(IoError::UnknownFormat {

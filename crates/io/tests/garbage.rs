@@ -6,8 +6,8 @@
 use std::path::Path;
 
 use delmesh_io::{
-    parse_medit, parse_msh, parse_msh_bytes, parse_obj, parse_off, parse_poly_any, parse_smesh,
-    parse_stl, parse_tetgen_poly, IoError, SurfaceFile,
+    parse_medit, parse_msh, parse_msh_bytes, parse_obj, parse_off, parse_ply, parse_poly_any,
+    parse_smesh, parse_stl, parse_tetgen_poly, IoError, SurfaceFile,
 };
 
 /// A small xorshift generator: no dependency, same sequence everywhere.
@@ -32,7 +32,7 @@ fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
 
-const PARSERS: [(&str, Parser); 9] = [
+const PARSERS: [(&str, Parser); 10] = [
     ("smesh", |b| parse_smesh(&text(b), Path::new("g.smesh"))),
     ("poly", |b| parse_tetgen_poly(&text(b), Path::new("g.poly"))),
     ("poly any", |b| {
@@ -45,6 +45,7 @@ const PARSERS: [(&str, Parser); 9] = [
     ("msh", |b| parse_msh(&text(b), Path::new("g.msh"))),
     // Binary .msh files are bytes, not text.
     ("msh bytes", |b| parse_msh_bytes(b, Path::new("g.msh"))),
+    ("ply", |b| parse_ply(b, Path::new("g.ply"))),
 ];
 
 /// Valid inputs of every format, the seeds of the mutations.
@@ -62,6 +63,10 @@ fn samples() -> Vec<Vec<u8>> {
         "v 0 0 0\nv 1 0 0\nv 0 1 0\ng a\nf 1/1 2//2 -1/1/1\nusemtl m\nf 3 2 1\n",
         "MeshVersionFormatted 2\nDimension 3\nVertices\n4\n0 0 0 1\n1 0 0 1\n0 1 0 1\n\
          0 0 1 1\nTriangles\n1\n1 2 3 4\nTetrahedra\n1\n1 2 3 4 2\nEnd\n",
+        "ply\nformat ascii 1.0\ncomment c\nelement vertex 4\nproperty float x\nproperty float y\n\
+         property float z\nproperty uchar red\nelement face 2\nproperty list uchar int \
+         vertex_indices\nelement edge 1\nproperty int a\nproperty int b\nend_header\n\
+         0 0 0 1\n1 0 0 2\n0 1 0 3\n0 0 1 4\n3 0 1 2\n4 0 1 2 3\n0 1\n",
     ]
     .iter()
     .map(|s| s.as_bytes().to_vec())
@@ -80,6 +85,28 @@ fn samples() -> Vec<Vec<u8>> {
     ] {
         v.push(std::fs::read(data.join(f)).unwrap());
     }
+    // A binary PLY (big-endian): 4 points, 2 faces.
+    let mut ply = b"ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty double x\n\
+        property double y\nproperty double z\nelement face 2\nproperty list uchar uint \
+        vertex_indices\nend_header\n"
+        .to_vec();
+    for p in [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0f64],
+    ] {
+        for x in p {
+            ply.extend(x.to_be_bytes());
+        }
+    }
+    for f in [&[0u32, 1, 2][..], &[0, 1, 2, 3]] {
+        ply.push(f.len() as u8);
+        for &i in f {
+            ply.extend(i.to_be_bytes());
+        }
+    }
+    v.push(ply);
     v
 }
 

@@ -1,4 +1,4 @@
-//! Tests of the surface readers `.off`, `.stl`, `.obj`, Medit `.mesh` and gmsh `.msh`: small
+//! Tests of the surface readers `.off`, `.stl`, `.obj`, `.ply`, Medit `.mesh` and gmsh `.msh`: small
 //! hand-written files in the formats' variants, files written by gmsh 4.15 (`tests/data`), the
 //! errors naming the line (or byte), round trips, and the choice of reader by extension.
 
@@ -1551,6 +1551,8 @@ fn read_surface_picks_the_reader() {
         0
     );
     let e = read_surface(&write("g.ply", "ply\n")).unwrap_err();
+    assert!(e.to_string().contains("no 'end_header'"), "{e}");
+    let e = read_surface(&write("g.step", "ISO-10303-21;\n")).unwrap_err();
     assert!(matches!(e, IoError::UnknownFormat { .. }), "{e}");
     // Parse errors name the file that was read.
     let e = read_surface(&write("h.off", "OFF\n1 0 0\n0 0\n")).unwrap_err();
@@ -1558,4 +1560,77 @@ fn read_surface_picks_the_reader() {
     assert_eq!(e.line(), Some(3));
     let e = read_surface(&dir.path().join("missing.stl")).unwrap_err();
     assert!(matches!(e, IoError::Io { .. }), "{e}");
+}
+
+/// PLY as scanners and Meshlab write it: ASCII with extra vertex properties, quads, a list
+/// property after the indices and an element of its own (skipped); binary in both byte
+/// orders, with any index and count types; errors naming the line or byte.
+#[test]
+fn ply_ascii_and_binary() {
+    use delmesh_io::parse_ply;
+    let ascii = "ply\nformat ascii 1.0\ncomment made by hand\nelement vertex 4\n\
+                 property float x\nproperty float y\nproperty float z\nproperty uchar red\n\
+                 element face 2\nproperty list uchar int vertex_indices\nproperty uchar flags\n\
+                 element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n\
+                 0 0 0 255\n1 0 0 0\n0 1 0 0\n\n0 0 1 0\n3 0 1 2 7\n4 0 1 3 2 7\n0 1\n";
+    let s = parse_ply(ascii.as_bytes(), Path::new("a.ply")).unwrap();
+    let points = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    assert_eq!(s.points, points);
+    assert_eq!(polygons(&s), [vec![0, 1, 2], vec![0, 1, 3, 2]]);
+    assert_eq!(markers(&s), [0, 0]);
+    assert_eq!(s.facets[1].line, 22);
+    for big in [false, true] {
+        let mut b = format!(
+            "ply\nformat binary_{}_endian 1.0\nelement vertex 4\nproperty double x\n\
+             property double y\nproperty double z\nelement face 2\n\
+             property list ushort uint vertex_index\nend_header\n",
+            if big { "big" } else { "little" }
+        )
+        .into_bytes();
+        for p in points {
+            for x in p {
+                b.extend(if big {
+                    x.to_be_bytes()
+                } else {
+                    x.to_le_bytes()
+                });
+            }
+        }
+        for f in [&[0u32, 1, 2][..], &[0, 1, 3, 2]] {
+            let n = f.len() as u16;
+            b.extend(if big {
+                n.to_be_bytes()
+            } else {
+                n.to_le_bytes()
+            });
+            for &i in f {
+                b.extend(if big {
+                    i.to_be_bytes()
+                } else {
+                    i.to_le_bytes()
+                });
+            }
+        }
+        let s = parse_ply(&b, Path::new("b.ply")).unwrap();
+        assert_eq!(s.points, points);
+        assert_eq!(polygons(&s), [vec![0, 1, 2], vec![0, 1, 3, 2]]);
+        let (at, msg) = binary_error(parse_ply(&b[..b.len() - 3], Path::new("b.ply")));
+        assert!(
+            at > 100 && msg.contains("ends before its last element"),
+            "{msg}"
+        );
+    }
+    let bad = ascii.replace("4 0 1 3 2 7", "4 0 1 9 2 7");
+    let (line, msg) = parse_error(parse_ply(bad.as_bytes(), Path::new("a.ply")));
+    assert_eq!(line, 22);
+    assert!(msg.contains("point 9 does not exist"), "{msg}");
+    let (_, msg) = parse_error(parse_ply(b"ply\nformat ascii 1.0\n", Path::new("a.ply")));
+    assert!(msg.contains("end_header"), "{msg}");
+    let (line, _) = parse_error(parse_ply(b"OFF\n", Path::new("a.ply")));
+    assert_eq!(line, 1);
 }
