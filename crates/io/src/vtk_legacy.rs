@@ -5,7 +5,7 @@
 //! `SCALARS`, `VECTORS`, `NORMALS` and `FIELD` data (other attributes are refused). Binary
 //! data is big-endian, as the format says.
 
-use crate::vtu_read::{Scalar, VtuPiece};
+use crate::vtu_read::{Scalar, VtuPiece, MAX_COUNT};
 
 /// Reads the piece of a legacy `.vtk` file given as bytes; errors are messages for the file.
 pub(crate) fn parse_vtk_legacy(bytes: &[u8]) -> Result<VtuPiece, String> {
@@ -38,9 +38,11 @@ pub(crate) fn parse_vtk_legacy(bytes: &[u8]) -> Result<VtuPiece, String> {
     let mut section: Option<(bool, usize)> = None;
     while let Some(line) = r.keyword_line()? {
         let f: Vec<&str> = line.split_whitespace().collect();
+        // (Counts beyond any memory are refused, so that products of them cannot overflow.)
         let count = |k: usize| -> Result<usize, String> {
             f.get(k)
                 .and_then(|t| t.parse().ok())
+                .filter(|&c: &usize| c < MAX_COUNT)
                 .ok_or_else(|| format!("'{line}': a count expected"))
         };
         match f[0] {
@@ -71,8 +73,9 @@ pub(crate) fn parse_vtk_legacy(bytes: &[u8]) -> Result<VtuPiece, String> {
                                 return Err(format!("a cell of {m} points"));
                             }
                             let m = m as usize;
-                            let cell = all
-                                .get(k + 1..k + 1 + m)
+                            let cell = (k + 1)
+                                .checked_add(m)
+                                .and_then(|end| all.get(k + 1..end))
                                 .ok_or("CELLS is shorter than its size")?;
                             piece.connectivity.extend_from_slice(cell);
                             piece.offsets.push(piece.connectivity.len() as f64);
@@ -82,8 +85,18 @@ pub(crate) fn parse_vtk_legacy(bytes: &[u8]) -> Result<VtuPiece, String> {
                 }
             }
             "CELL_TYPES" => piece.types = r.values(count(1)?, Scalar::I32, binary)?,
-            "POINT_DATA" => section = Some((true, count(1)?)),
-            "CELL_DATA" => section = Some((false, count(1)?)),
+            "POINT_DATA" | "CELL_DATA" => {
+                let of_points = f[0] == "POINT_DATA";
+                let (n, have) = if of_points {
+                    (count(1)?, piece.points.len() / 3)
+                } else {
+                    (count(1)?, piece.types.len())
+                };
+                if n != have {
+                    return Err(format!("'{line}': the mesh has {have}"));
+                }
+                section = Some((of_points, n));
+            }
             "METADATA" => r.skip_metadata()?,
             "SCALARS" | "VECTORS" | "NORMALS" | "FIELD" if section.is_some() => {
                 let (of_points, n) = section.expect("a data section");
@@ -95,7 +108,15 @@ pub(crate) fn parse_vtk_legacy(bytes: &[u8]) -> Result<VtuPiece, String> {
                 let name = f.get(1).copied().unwrap_or("").to_string();
                 match f[0] {
                     "SCALARS" => {
-                        let comps = f.get(3).and_then(|t| t.parse().ok()).unwrap_or(1);
+                        let comps =
+                            match f.get(3) {
+                                None => 1,
+                                Some(_) => {
+                                    count(3).ok().filter(|c| (1..=4).contains(c)).ok_or_else(
+                                        || format!("'{line}': SCALARS have 1 to 4 components"),
+                                    )?
+                                }
+                            };
                         let t = scalar(f.get(2))?;
                         let save = r.at;
                         if !r
@@ -119,6 +140,7 @@ pub(crate) fn parse_vtk_legacy(bytes: &[u8]) -> Result<VtuPiece, String> {
                             let num = |k: usize| -> Result<usize, String> {
                                 g.get(k)
                                     .and_then(|t| t.parse().ok())
+                                    .filter(|&c: &usize| c < MAX_COUNT)
                                     .ok_or_else(|| format!("'{a}': a field array expected"))
                             };
                             let (comps, tuples) = (num(1)?, num(2)?);
@@ -215,8 +237,9 @@ impl Reader<'_> {
         if binary {
             let size = n.checked_mul(t.size()).ok_or("a section too large")?;
             let data = self
-                .bytes
-                .get(self.at..self.at + size)
+                .at
+                .checked_add(size)
+                .and_then(|end| self.bytes.get(self.at..end))
                 .ok_or("the binary data ends early")?;
             self.at += size;
             // The newline after the block.

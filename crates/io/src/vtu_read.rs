@@ -13,6 +13,10 @@
 
 use std::io::Read;
 
+/// Counts (points, cells, components) at least this large are refused: no memory holds them,
+/// and products of smaller ones cannot overflow.
+pub(crate) const MAX_COUNT: usize = 1 << 40;
+
 /// The arrays of the single piece of a `.vtu` file, as numbers.
 pub(crate) struct VtuPiece {
     /// Three coordinates per point.
@@ -74,7 +78,9 @@ pub(crate) fn parse_vtu(bytes: &[u8]) -> Result<VtuPiece, String> {
                             let v = get(key).ok_or(format!("<Piece> has no {key}"))?;
                             v.trim()
                                 .parse()
-                                .map_err(|_| format!("<Piece> {key}=\"{v}\" is not a count"))
+                                .ok()
+                                .filter(|&c: &usize| c < MAX_COUNT)
+                                .ok_or(format!("<Piece> {key}=\"{v}\" is not a count"))
                         };
                         piece = Some((count("NumberOfPoints")?, count("NumberOfCells")?));
                     }
@@ -376,7 +382,7 @@ impl Array {
                 .trim()
                 .parse()
                 .ok()
-                .filter(|&c| c > 0)
+                .filter(|&c| c > 0 && c < 1 << 16)
                 .ok_or_else(|| what(format!("NumberOfComponents=\"{c}\"")))?,
         };
         let mode = match get("format") {

@@ -283,3 +283,42 @@ fn cell_data_becomes_point_data() {
         );
     }
 }
+
+/// Counts and sizes beyond any memory (a damaged or hostile header) are errors, not panics or
+/// huge allocations.
+#[test]
+fn huge_counts_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let huge = ["18446744073709551615", "4294967296", "1099511627776", "-1"];
+    let cases: Vec<(PathBuf, &str)> = vec![
+        (legacy("vtk-legacy-ascii.vtk"), "POINTS 9"),
+        (legacy("vtk-legacy-ascii.vtk"), "CELLS 8"),
+        (legacy("vtk-legacy-ascii.vtk"), "CELL_TYPES 8"),
+        (legacy("vtk-legacy-ascii.vtk"), "POINT_DATA 9"),
+        (legacy("vtk-legacy-ascii.vtk"), "spacing 1 9"),
+        (legacy("vtk-legacy-51.vtk"), "CELLS 9"),
+        (fixtures()[0].clone(), "NumberOfPoints=\"9\""),
+        (fixtures()[0].clone(), "NumberOfCells=\"8\""),
+    ];
+    for (file, what) in cases {
+        let text = String::from_utf8_lossy(&std::fs::read(&file).unwrap()).into_owned();
+        assert!(text.contains(what), "{what}");
+        for h in huge {
+            let changed = if what.contains('"') {
+                let key = what.split('=').next().unwrap();
+                text.replacen(what, &format!("{key}=\"{h}\""), 1)
+            } else {
+                let (head, _) = what.rsplit_once(' ').unwrap();
+                text.replacen(what, &format!("{head} {h}"), 1)
+            };
+            let path = dir.path().join(file.file_name().unwrap());
+            std::fs::write(&path, &changed).unwrap();
+            let read = if path.extension().unwrap() == "vtk" {
+                delmesh_io::read_vtk_legacy(&path)
+            } else {
+                read_vtu(&path)
+            };
+            assert!(read.is_err(), "{what} -> {h}");
+        }
+    }
+}
