@@ -628,6 +628,30 @@ impl SpacingField {
         )
     }
 
+    /// About how many spacings long the edge `a b` is under this field (`∫ ds / h`, from a
+    /// coarse sampling; the boundary's own spacing counts for nothing, so only sources do
+    /// without a background): what [`Self::boundary_splits`] would cut it into, without
+    /// cutting. Infinite where the spacing is not positive somewhere.
+    pub fn spacings_along(&self, a: [f64; 2], b: [f64; 2]) -> f64 {
+        let length = (b[0] - a[0]).hypot(b[1] - a[1]);
+        let k = SPLIT_SAMPLES;
+        let inverse: f64 = (0..=k)
+            .map(|i| {
+                let t = i as f64 / k as f64;
+                // (The boundary's own spacing counts for nothing: only sources then.)
+                let p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+                let h = self.spacing(p, f64::INFINITY);
+                let w = if i == 0 || i == k { 0.5 } else { 1.0 };
+                if h > 0.0 && !h.is_nan() {
+                    w / h
+                } else {
+                    f64::INFINITY
+                }
+            })
+            .sum();
+        length * inverse / k as f64
+    }
+
     /// Where the field asks for the boundary edge `a b` to be split, for
     /// [`delmesh_boundary_recovery::BoundaryRecovery::with_segment_splits`]: generation cannot
     /// fill the domain next to an edge much longer than the spacing there, and thin elements
@@ -645,7 +669,12 @@ impl SpacingField {
         if !(length > 0.0 && length.is_finite()) {
             return Vec::new();
         }
-        let at = |t: f64| self.spacing([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])], 0.0);
+        let at = |t: f64| {
+            self.spacing(
+                [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])],
+                f64::INFINITY,
+            )
+        };
         // Samples at least eight per finest spacing seen in a first, coarse sampling.
         let sample = |k: usize| -> Option<Vec<f64>> {
             let h: Vec<f64> = (0..=k).map(|i| at(i as f64 / k as f64)).collect();

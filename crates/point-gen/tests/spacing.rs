@@ -117,3 +117,32 @@ fn bad_background_meshes_are_named() {
     )
     .is_err());
 }
+
+/// A background mesh's boundary splits: pieces as many as the edge is long in spacings
+/// (rounded), graded as the spacing is; and the length in spacings, which the pipeline checks
+/// before splitting (a background of 1e-300 would cut an edge into a million pieces).
+#[test]
+fn a_background_splits_boundary_edges_by_their_length_in_spacings() {
+    let field = SpacingField::background(square([0.1; 4]));
+    let ts = field.boundary_splits([0.0, 0.0], [2.0, 0.0]);
+    assert_eq!(ts.len(), 19);
+    for (k, t) in ts.iter().enumerate() {
+        assert!((t - (k + 1) as f64 / 20.0).abs() < 1e-9, "{ts:?}");
+    }
+    assert!((field.spacings_along([0.0, 0.0], [2.0, 0.0]) - 20.0).abs() < 1e-9);
+    // Within one and a half spacings: whole.
+    assert!(field.boundary_splits([0.0, 0.0], [0.14, 0.0]).is_empty());
+    // Graded 0.05 to 0.25 along x: the pieces grow along the edge.
+    let field = SpacingField::background(square([0.05, 0.25, 0.25, 0.05]));
+    let ts = field.boundary_splits([0.0, 0.0], [2.0, 0.0]);
+    let pieces: Vec<f64> = std::iter::once(0.0)
+        .chain(ts.iter().copied())
+        .chain(std::iter::once(1.0))
+        .collect::<Vec<_>>()
+        .windows(2)
+        .map(|w| 2.0 * (w[1] - w[0]))
+        .collect();
+    assert!(pieces.windows(2).all(|w| w[1] > w[0]), "{pieces:?}");
+    let field = SpacingField::background(square([1e-300; 4]));
+    assert!(field.spacings_along([0.0, 0.0], [2.0, 0.0]) > 1e299);
+}
