@@ -55,10 +55,24 @@ pub(crate) fn facet_caps(mesh: &Mesh3, caps: &[f64]) -> HashMap<u32, f64> {
     out
 }
 
+/// `plc`'s triangles on the first of each set of exactly equal points, as the surface checks
+/// merge them: an exporter that repeats points at seams (or a surface split before, one copy
+/// per patch) gives the triangles on either side of an edge different corners, and each side
+/// would split its copy of the edge on its own.
+fn on_first_occurrences(plc: &Plc3) -> Vec<SurfaceTriangle> {
+    let first = first_occurrences(&plc.points);
+    plc.triangles
+        .iter()
+        .map(|t| SurfaceTriangle {
+            v: t.v.map(|i| first[i as usize]),
+            ..*t
+        })
+        .collect()
+}
+
 /// `plc` with every triangle whose cap (`cap_of(k)` for triangle `k`: a spacing, or infinite
 /// for none) is smaller than its edges split to that spacing; `None` if no triangle needs it.
-/// Points repeated in `plc` (an STL file's, or a surface remeshed before) are taken as one, so
-/// that the triangles on either side of an edge split it alike.
+/// Points repeated in `plc` are taken as one ([`on_first_occurrences`]).
 ///
 /// # Errors
 /// Only if meshing a triangle in its plane fails, which would be a bug.
@@ -66,15 +80,7 @@ pub(crate) fn split_surface(
     plc: &Plc3,
     cap_of: impl Fn(usize) -> f64 + Sync,
 ) -> Result<Option<Plc3>, Error> {
-    let first = first_occurrences(&plc.points);
-    let tris: Vec<SurfaceTriangle> = plc
-        .triangles
-        .iter()
-        .map(|t| SurfaceTriangle {
-            v: t.v.map(|i| first[i as usize]),
-            ..*t
-        })
-        .collect();
+    let tris = on_first_occurrences(plc);
     // Pieces of each edge (by sorted ends): enough for the finest triangle on it.
     let mut pieces: HashMap<(u32, u32), usize> = HashMap::new();
     for (k, t) in tris.iter().enumerate() {
@@ -416,19 +422,7 @@ fn mesh_in_plane_with(
 /// # Errors
 /// Only if meshing a patch in its plane fails, which would be a bug.
 pub(crate) fn remesh_surface(plc: &Plc3, sizing: &SurfaceSizing) -> Result<Option<Plc3>, Error> {
-    // Triangles on the first of each set of exactly equal points, as the surface checks merge
-    // them: an exporter that repeats points at seams gives the triangles on either side of an
-    // edge different corners, and each side would split its copy of the edge on its own.
-    let first = first_occurrences(&plc.points);
-    let tris: Vec<SurfaceTriangle> = plc
-        .triangles
-        .iter()
-        .map(|t| SurfaceTriangle {
-            v: t.v.map(|i| first[i as usize]),
-            ..*t
-        })
-        .collect();
-    let tris = &tris;
+    let tris = &on_first_occurrences(plc);
     let point = |i: u32| plc.points[i as usize];
     let key = |a: u32, b: u32| (a.min(b), a.max(b));
     // Which triangles have an edge longer than the spacing asked on them.
