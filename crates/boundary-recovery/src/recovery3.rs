@@ -465,6 +465,8 @@ struct State<'a> {
     touched: Vec<u64>,
     /// The value of `changes` at the last edge check.
     edges_checked_at: u64,
+    /// The number of vertices at the last edge check (vertices numbered from it on are new).
+    edges_checked_vertices: usize,
     /// Recover by flips first ([`RecoveryMethod3::Constrained`]).
     constrained: bool,
     /// Whether some segment has more than two facets: the surface has internal walls.
@@ -1219,6 +1221,7 @@ impl<'a> State<'a> {
             changes: 1,
             touched: vec![1; nv],
             edges_checked_at: 0,
+            edges_checked_vertices: 0,
             locked,
             constrained,
             walls,
@@ -1622,11 +1625,14 @@ impl<'a> State<'a> {
     fn missing_subsegments(&mut self) -> Vec<(u32, u32)> {
         let since = self.edges_checked_at;
         self.edges_checked_at = self.changes;
+        let born = self.edges_checked_vertices;
+        self.edges_checked_vertices = self.ct.triangulation().num_vertices();
         let mut by_vertex: Vec<(VertexId, VertexId, u32, u32)> = Vec::new();
         for (s, seg) in self.segs.iter().enumerate() {
             for (k, w) in seg.pts.windows(2).enumerate() {
                 let (a, b) = (w[0].1, w[1].1);
-                if self.touched[a.index()] <= since && self.touched[b.index()] <= since {
+                let new = a.index() >= born || b.index() >= born;
+                if !new && (self.touched[a.index()] <= since || self.touched[b.index()] <= since) {
                     continue;
                 }
                 let (lo, hi) = if a < b { (a, b) } else { (b, a) };
@@ -1659,9 +1665,13 @@ impl<'a> State<'a> {
 
     /// Splits sub-segment `k` of segment `s` (between its points `k` and `k + 1`).
     fn split_subsegment(&mut self, s: usize, k: usize) -> Result<(), RecoveryError> {
-        let seg = self.segs[s].clone();
+        // (What the split reads of the segment: copying all its points made splitting a
+        // segment into n pieces quadratic.)
+        let seg = &self.segs[s];
         let (pa, pb) = (self.point(seg.a), self.point(seg.b));
-        let (t0, t1) = (seg.pts[k].0, seg.pts[k + 1].0);
+        let last = seg.pts.len() - 1;
+        let ((t0, u), (t1, w)) = (seg.pts[k], seg.pts[k + 1]);
+        let (first, end) = (seg.pts[0].1, seg.pts[last].1);
         let length = dist(pa, pb);
         let sub_length = (t1 - t0) * length;
         // Splits after flips are not bound to end as the Delaunay ones are: the constrained
@@ -1670,7 +1680,6 @@ impl<'a> State<'a> {
         if sub_length < self.shortest || self.added >= self.budget || too_fine {
             return Err(self.not_recovered(self.facets_of_segment(s)));
         }
-        let last = seg.pts.len() - 1;
         // Concentric shells: measured from an input vertex at one end, a power of two.
         let shell = |from_t: f64, towards: f64| {
             let r = 2f64.powf((sub_length * 0.5).log2().round());
@@ -1679,23 +1688,17 @@ impl<'a> State<'a> {
         let t = match (k == 0, k + 1 == last) {
             (true, false) => shell(0.0, 1.0),
             (false, true) => shell(1.0, -1.0),
-            _ => {
-                let (u, w) = (seg.pts[k].1, seg.pts[k + 1].1);
-                self.projection_split(u, w)
-                    .map_or(0.5 * (t0 + t1), |f| t0 + f * (t1 - t0))
-            }
+            _ => self
+                .projection_split(u, w)
+                .map_or(0.5 * (t0 + t1), |f| t0 + f * (t1 - t0)),
         };
         let t = if t > t0 && t < t1 { t } else { 0.5 * (t0 + t1) };
         let p = lerp(pa, pb, t);
-        let (da, db) = (
-            self.spacing[seg.pts[0].1.index()],
-            self.spacing[seg.pts[last].1.index()],
-        );
-        let Some(v) = self.add_vertex(p, da + t * (db - da), seg.pts[k].1)? else {
+        let (da, db) = (self.spacing[first.index()], self.spacing[end.index()]);
+        let Some(v) = self.add_vertex(p, da + t * (db - da), u)? else {
             return Err(self.not_recovered(self.facets_of_segment(s)));
         };
         if self.constrained {
-            let (u, w) = (seg.pts[k].1, seg.pts[k + 1].1);
             self.locked.remove(&edge_key(u, w));
             self.locked.insert(edge_key(u, v));
             self.locked.insert(edge_key(v, w));
