@@ -219,7 +219,7 @@ impl ConstrainedTriangulation2 {
         out
     }
 
-    /// Keeps the per-cell arrays as long as the cell arrays.
+    /// Keeps the per-cell info as long as the cell arrays.
     fn sync(&mut self) {
         let n = self.tri.simplices.len();
         if self.info.len() < n {
