@@ -139,9 +139,12 @@ pub fn parse_ply(bytes: &[u8], file: &Path) -> Result<SurfaceFile, IoError> {
         at,
         line: header_lines,
         big_endian: format,
-        tokens: Vec::new(),
+        text: String::new(),
+        cursor: 0,
         file,
     };
+    // One record's values, and the range of them each property holds (reused).
+    let (mut values, mut spans) = (Vec::new(), Vec::new());
     for element in &elements {
         let position = |name: &str| element.properties.iter().position(|(n, _)| n == name);
         let (xyz, indices) = match element.name.as_str() {
@@ -174,9 +177,10 @@ pub fn parse_ply(bytes: &[u8], file: &Path) -> Result<SurfaceFile, IoError> {
             continue;
         }
         for number in 0..element.count {
-            let record = data.record(&element.properties)?;
+            data.record(&element.properties, &mut values, &mut spans)?;
+            let record = |k: usize| &values[spans[k]..spans[k + 1]];
             if let Some([x, y, z]) = xyz {
-                let p = [record[x][0], record[y][0], record[z][0]];
+                let p = [record(x)[0], record(y)[0], record(z)[0]];
                 if p.iter().any(|c| !c.is_finite()) {
                     return Err(data.error(format!(
                         "vertex {number} has a coordinate that is not finite"
@@ -189,8 +193,8 @@ pub fn parse_ply(bytes: &[u8], file: &Path) -> Result<SurfaceFile, IoError> {
                     .iter()
                     .find(|e| e.name == "vertex")
                     .map_or(0, |e| e.count);
-                let mut polygon = Vec::with_capacity(record[k].len());
-                for &v in &record[k] {
+                let mut polygon = Vec::with_capacity(record(k).len());
+                for &v in record(k) {
                     if !(v >= 0.0 && v < n_points as f64 && v.fract() == 0.0) {
                         return Err(data.error(format!(
                             "face {number}: point {v} does not exist (points are numbered 0 to {})",
@@ -225,7 +229,9 @@ struct Data<'a> {
     line: usize,
     /// `None` for ASCII, else whether binary data is big-endian.
     big_endian: Option<bool>,
-    tokens: Vec<String>,
+    /// The record's line (ASCII), and where its next token starts.
+    text: String,
+    cursor: usize,
     file: &'a Path,
 }
 
@@ -237,8 +243,14 @@ impl Data<'_> {
         }
     }
 
-    /// One element's values: each property's numbers (one, or a list's items).
-    fn record(&mut self, properties: &[(String, Property)]) -> Result<Vec<Vec<f64>>, IoError> {
+    /// One element's values into `values`, property `k`'s numbers (one, or a list's items) at
+    /// `spans[k]..spans[k + 1]`.
+    fn record(
+        &mut self,
+        properties: &[(String, Property)],
+        values: &mut Vec<f64>,
+        spans: &mut Vec<usize>,
+    ) -> Result<(), IoError> {
         if self.big_endian.is_none() {
             // The next line that is not blank.
             loop {
@@ -247,46 +259,61 @@ impl Data<'_> {
                     return Err(self.error("the file ends before its last element".into()));
                 }
                 let end = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
-                let text = String::from_utf8_lossy(&rest[..end]).to_string();
+                self.text.clear();
+                self.text.push_str(&String::from_utf8_lossy(&rest[..end]));
+                self.cursor = 0;
                 self.at += (end + 1).min(rest.len());
                 self.line += 1;
-                if !text.trim().is_empty() {
-                    self.tokens = text.split_whitespace().rev().map(str::to_string).collect();
+                if !self.text.trim().is_empty() {
                     break;
                 }
             }
         }
-        let mut out = Vec::with_capacity(properties.len());
+        values.clear();
+        spans.clear();
+        spans.push(0);
         for (_, property) in properties {
             match *property {
-                Property::Number(t) => out.push(vec![self.value(t)?]),
+                Property::Number(t) => values.push(self.value(t)?),
                 Property::List(count, item) => {
                     let n = self.value(count)?;
                     if !(n >= 0.0 && n.fract() == 0.0 && n < 1e6) {
                         return Err(self.error(format!("a list of {n} items")));
                     }
-                    let items = (0..n as usize)
-                        .map(|_| self.value(item))
-                        .collect::<Result<_, _>>()?;
-                    out.push(items);
+                    for _ in 0..n as usize {
+                        values.push(self.value(item)?);
+                    }
                 }
             }
+            spans.push(values.len());
         }
-        if self.big_endian.is_none() && !self.tokens.is_empty() {
+        if self.big_endian.is_none() && self.token().is_some() {
             return Err(self.error("more values than the element's properties".into()));
         }
-        Ok(out)
+        Ok(())
+    }
+
+    /// The byte range of the next token of the record's line (ASCII), moving past it.
+    fn token(&mut self) -> Option<std::ops::Range<usize>> {
+        let rest = &self.text[self.cursor..];
+        let start = self.cursor + (rest.len() - rest.trim_start().len());
+        let len = self.text[start..]
+            .find(char::is_whitespace)
+            .unwrap_or(self.text.len() - start);
+        self.cursor = start + len;
+        (len > 0).then_some(start..start + len)
     }
 
     fn value(&mut self, t: Scalar) -> Result<f64, IoError> {
         match self.big_endian {
             None => {
-                let token = self.tokens.pop().ok_or_else(|| {
+                let token = self.token().ok_or_else(|| {
                     self.error("fewer values than the element's properties".into())
                 })?;
+                let token = &self.text[token];
                 token
                     .parse()
-                    .map_err(|_| self.error(format!("'{}' is not a number", shorten(&token))))
+                    .map_err(|_| self.error(format!("'{}' is not a number", shorten(token))))
             }
             Some(big) => {
                 let size = t.size();
@@ -295,8 +322,7 @@ impl Data<'_> {
                     .get(self.at..self.at + size)
                     .ok_or_else(|| self.error("the file ends before its last element".into()))?;
                 self.at += size;
-                let v = t.decode(bytes, big).map_err(|m| self.error(m))?;
-                Ok(v[0])
+                Ok(t.read(bytes, big))
             }
         }
     }

@@ -87,12 +87,9 @@ fn field_mesh(path: &Path, piece: crate::vtu_read::VtuPiece) -> Result<FieldMesh
     let dim = if flat { 2 } else { 3 };
     let connectivity = &piece.connectivity;
     let mut cells = Vec::with_capacity(connectivity.len());
-    // The mesh cells at each point (for cell data).
-    let mut touching: Vec<Vec<u32>> = if piece.cell_data.is_empty() {
-        Vec::new()
-    } else {
-        vec![Vec::new(); n_points]
-    };
+    // (point, mesh cell) for each corner of a mesh cell, for cell data.
+    let spread = !piece.cell_data.is_empty();
+    let mut corners: Vec<(u32, u32)> = Vec::new();
     let mut begin = 0usize;
     for (k, (&end, &ty)) in piece.offsets.iter().zip(&piece.types).enumerate() {
         let end = end as usize;
@@ -121,12 +118,10 @@ fn field_mesh(path: &Path, piece: crate::vtu_read::VtuPiece) -> Result<FieldMesh
             )
         })?;
         // A cell of the mesh (not a point, line or face) spreads its cell data to its points.
-        if cells.len() > before && !touching.is_empty() {
+        if cells.len() > before && spread {
             nodes.sort_unstable();
             nodes.dedup();
-            for &v in &nodes {
-                touching[v as usize].push(k as u32);
-            }
+            corners.extend(nodes.iter().map(|&v| (v, k as u32)));
         }
     }
     let coords = if dim == 3 {
@@ -153,6 +148,20 @@ fn field_mesh(path: &Path, piece: crate::vtu_read::VtuPiece) -> Result<FieldMesh
     // Cell data (a finite-volume solver's cell-centred fields) as point fields: at each point
     // the mean of the cells around it; a point field of the same name is kept instead.
     let n_cells = piece.offsets.len();
+    // The mesh cells around each point: `around[start[v]..start[v + 1]]`.
+    let mut start = vec![0usize; if spread { n_points + 1 } else { 0 }];
+    for &(v, _) in &corners {
+        start[v as usize + 1] += 1;
+    }
+    for v in 1..start.len() {
+        start[v] += start[v - 1];
+    }
+    let mut around = vec![0u32; corners.len()];
+    let mut fill = start.clone();
+    for &(v, k) in &corners {
+        around[fill[v as usize]] = k;
+        fill[v as usize] += 1;
+    }
     for (name, comps, values) in piece.cell_data {
         if values.len() != comps * n_cells
             || point_fields
@@ -170,11 +179,10 @@ fn field_mesh(path: &Path, piece: crate::vtu_read::VtuPiece) -> Result<FieldMesh
             };
             // (A point in no cell, which nothing interpolates from, takes the mean.)
             let everywhere = mean_of(&mut (0..n_cells));
-            let at_points: Vec<f64> = touching
-                .iter()
-                .map(|around| match around.len() {
-                    0 => everywhere,
-                    _ => mean_of(&mut around.iter().map(|&k| k as usize)),
+            let at_points: Vec<f64> = (0..n_points)
+                .map(|v| match &around[start[v]..start[v + 1]] {
+                    [] => everywhere,
+                    cells => mean_of(&mut cells.iter().map(|&k| k as usize)),
                 })
                 .collect();
             let name = if comps == 1 {
@@ -215,7 +223,13 @@ fn split_cell(ty: f64, v: &[u32], dim: usize, out: &mut Vec<u32>) -> Result<(), 
             push(&[h[0], h[a], h[b], h[6]]);
         }
     };
-    match (dim, ty as u32) {
+    // (A type that is not a whole number matches no cell type.)
+    let whole = if ty.fract() == 0.0 && (0.0..=255.0).contains(&ty) {
+        ty as u32
+    } else {
+        u32::MAX
+    };
+    match (dim, whole) {
         // Vertices, poly-vertices, lines, poly-lines.
         (_, 1..=4) => {}
         (2, 5) => {

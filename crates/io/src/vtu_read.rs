@@ -508,26 +508,31 @@ impl Scalar {
         }
         Ok(bytes
             .chunks_exact(size)
-            .map(|c| {
-                let mut b = [0u8; 8];
-                b[..size].copy_from_slice(c);
-                if big_endian {
-                    b[..size].reverse();
-                }
-                match self {
-                    Scalar::I8 => f64::from(b[0] as i8),
-                    Scalar::U8 => f64::from(b[0]),
-                    Scalar::I16 => f64::from(i16::from_le_bytes([b[0], b[1]])),
-                    Scalar::U16 => f64::from(u16::from_le_bytes([b[0], b[1]])),
-                    Scalar::I32 => f64::from(i32::from_le_bytes([b[0], b[1], b[2], b[3]])),
-                    Scalar::U32 => f64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]])),
-                    Scalar::I64 => i64::from_le_bytes(b) as f64,
-                    Scalar::U64 => u64::from_le_bytes(b) as f64,
-                    Scalar::F32 => f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
-                    Scalar::F64 => f64::from_le_bytes(b),
-                }
-            })
+            .map(|c| self.read(c, big_endian))
             .collect())
+    }
+
+    /// The value in `c`, which holds exactly [`Self::size`] bytes.
+    #[inline]
+    pub(crate) fn read(self, c: &[u8], big_endian: bool) -> f64 {
+        let size = self.size();
+        let mut b = [0u8; 8];
+        b[..size].copy_from_slice(c);
+        if big_endian {
+            b[..size].reverse();
+        }
+        match self {
+            Scalar::I8 => f64::from(b[0] as i8),
+            Scalar::U8 => f64::from(b[0]),
+            Scalar::I16 => f64::from(i16::from_le_bytes([b[0], b[1]])),
+            Scalar::U16 => f64::from(u16::from_le_bytes([b[0], b[1]])),
+            Scalar::I32 => f64::from(i32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+            Scalar::U32 => f64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+            Scalar::I64 => i64::from_le_bytes(b) as f64,
+            Scalar::U64 => u64::from_le_bytes(b) as f64,
+            Scalar::F32 => f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+            Scalar::F64 => f64::from_le_bytes(b),
+        }
     }
 }
 

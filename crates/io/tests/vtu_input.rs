@@ -102,10 +102,16 @@ fn damaged_files_are_errors_not_panics() {
     assert!(refused > 1000, "{refused}");
 }
 
-fn cells_fixture(name: &str) -> PathBuf {
+/// `tests/data/<dir>/<name>`.
+fn data(dir: &str, name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/vtu-cells")
+        .join("tests/data")
+        .join(dir)
         .join(name)
+}
+
+fn cells_fixture(name: &str) -> PathBuf {
+    data("vtu-cells", name)
 }
 
 /// A solver's mesh of quads, hexahedra, prisms and pyramids (a flow solution to adapt to) is
@@ -163,10 +169,42 @@ fn linear_cells_are_split_into_simplices() {
     );
 }
 
+/// A cell type that is not a whole number (5.5) is no cell type, not a triangle.
+#[test]
+fn a_fractional_cell_type_is_refused() {
+    let dir = std::env::temp_dir().join(format!("delmesh-vtu-type-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("t.vtu");
+    let vtu = |ty: &str| {
+        format!(
+            r#"<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">
+  <UnstructuredGrid>
+    <Piece NumberOfPoints="3" NumberOfCells="1">
+      <Points>
+        <DataArray type="Float64" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 0 1 0</DataArray>
+      </Points>
+      <Cells>
+        <DataArray type="Int32" Name="connectivity" format="ascii">0 1 2</DataArray>
+        <DataArray type="Int32" Name="offsets" format="ascii">3</DataArray>
+        <DataArray type="Float64" Name="types" format="ascii">{ty}</DataArray>
+      </Cells>
+    </Piece>
+  </UnstructuredGrid>
+</VTKFile>
+"#
+        )
+    };
+    std::fs::write(&path, vtu("5")).unwrap();
+    assert_eq!(read_vtu(&path).unwrap().cells, vec![0, 1, 2]);
+    std::fs::write(&path, vtu("5.5")).unwrap();
+    let e = read_vtu(&path).unwrap_err().to_string();
+    assert!(e.contains("cell 0 (VTK type 5.5, 3 points)"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 fn legacy(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/vtk-legacy")
-        .join(name)
+    data("vtk-legacy", name)
 }
 
 /// Legacy `.vtk` files as VTK 9 writes them (versions 4.2 and 5.1, ASCII and binary): the same
