@@ -90,6 +90,32 @@ impl ConstrainedTriangulation3 {
         Ok(())
     }
 
+    /// Moves vertex `v` to `point` (caller's coordinates) if every cell around it stays finite
+    /// and positively oriented; otherwise it stays where it is. Checks the vertex's star only
+    /// (cheaper than [`Self::move_vertices`] for a few vertices of a large mesh); `star` is a
+    /// buffer. Returns whether it moved.
+    pub fn move_vertex(&mut self, v: VertexId, point: [f64; 3], star: &mut Vec<CellId>) -> bool {
+        if v.is_ghost() || v.index() >= self.tri.num_vertices() {
+            return false;
+        }
+        let Ok(q) = self.tri.scaled_input(self.tri.flush_tiny(point)) else {
+            return false;
+        };
+        self.star(v, star);
+        let old = self.tri.points[v.index()];
+        self.tri.points[v.index()] = q;
+        let points = &self.tri.points;
+        let valid = star.iter().all(|&c| {
+            let s = &self.tri.simplices[c.index()];
+            !s.v.iter().any(|u| u.is_ghost())
+                && D3::orient(&s.v.map(|u| points[u.index()])) == Sign::Positive
+        });
+        if !valid {
+            self.tri.points[v.index()] = old;
+        }
+        valid
+    }
+
     /// Flips unprotected faces between finite cells whose tags are `in_scope` until each passes
     /// the insphere test, or no flip can mend those left (see the module docs). Cells out of
     /// scope are never changed.

@@ -285,3 +285,34 @@ fn renumbering_keeps_protected_faces_and_tags_with_their_cells() {
     assert_eq!(protected(&ct), faces);
     assert!(flips.left.len() <= flips.failing);
 }
+
+#[test]
+fn one_vertex_moves_exactly_when_moving_it_alone_is_valid() {
+    let pts = uniform3(400, 5);
+    let mut whole = ConstrainedTriangulation3::new(Triangulation3::new(&pts).unwrap());
+    let mut single = whole.clone();
+    let mut rng = StdRng::seed_from_u64(9);
+    let mut star = Vec::new();
+    let (mut moved, mut refused) = (0, 0);
+    for v in 0..whole.triangulation().num_vertices() as u32 {
+        let v = VertexId(v);
+        let p = whole.triangulation().vertex(v);
+        let q = p.map(|x| x + rng.gen_range(-0.05..0.05));
+        let valid = whole.move_vertices(&[(v, q)]).is_ok();
+        assert_eq!(single.move_vertex(v, q, &mut star), valid, "vertex {}", v.0);
+        assert_eq!(
+            single.triangulation().vertex(v),
+            whole.triangulation().vertex(v)
+        );
+        if valid {
+            moved += 1;
+        } else {
+            refused += 1;
+        }
+    }
+    assert!(
+        moved > 40 && refused > 40,
+        "{moved} moved, {refused} refused"
+    );
+    single.validate_structure().unwrap();
+}
