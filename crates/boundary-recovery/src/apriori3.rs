@@ -17,7 +17,7 @@
 //! also repairs anything the new points broke; the history says how many.
 
 use crate::plc3::SurfaceTriangle;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// An a-priori point must be farther than this many times its height from every other point.
 const NEAR: f64 = 0.25;
@@ -32,7 +32,7 @@ impl Grid {
     fn new(cell: f64) -> Grid {
         Grid {
             cell,
-            buckets: HashMap::new(),
+            buckets: HashMap::default(),
         }
     }
 

@@ -14,7 +14,7 @@
 use crate::error::RecoveryError;
 use crate::plc::{Plc2, Segment};
 use delmesh_predicates::{orient2d, Sign};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// A checked input: merged points, segments that may be recovered.
 #[derive(Clone, Debug)]
@@ -184,7 +184,8 @@ pub(crate) fn check(plc: &Plc2, geometric: bool) -> Result<CheckedPlc, RecoveryE
         }
     }
     // Merge duplicate points: each maps to its first occurrence.
-    let mut first: HashMap<(u64, u64), u32> = HashMap::with_capacity(n);
+    let mut first: HashMap<(u64, u64), u32> =
+        HashMap::with_capacity_and_hasher(n, Default::default());
     let canon: Vec<u32> = plc
         .points
         .iter()
@@ -202,7 +203,8 @@ pub(crate) fn check(plc: &Plc2, geometric: bool) -> Result<CheckedPlc, RecoveryE
 
     let mut segments = Vec::with_capacity(plc.segments.len());
     let mut origin = Vec::with_capacity(plc.segments.len());
-    let mut seen: HashMap<(u32, u32), ()> = HashMap::with_capacity(plc.segments.len());
+    let mut seen: HashMap<(u32, u32), ()> =
+        HashMap::with_capacity_and_hasher(plc.segments.len(), Default::default());
     for (i, s) in plc.segments.iter().enumerate() {
         for e in [s.a, s.b] {
             if e as usize >= n {

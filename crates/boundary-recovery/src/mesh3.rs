@@ -1,7 +1,7 @@
 //! What a [`Mesh3`] reports: its elements (the tetrahedra inside the domain), their volume, and
 //! flat arrays for writers and for smoothing.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 use rayon::prelude::*;
 
@@ -496,7 +496,7 @@ impl Mesh3 {
         }
         // The corner opposite each face of the output's boundary, in its one element: a
         // boundary face there is turned to face out of the domain.
-        let mut inside_of: HashMap<[u32; 3], u32> = HashMap::new();
+        let mut inside_of: HashMap<[u32; 3], u32> = HashMap::default();
         for (t, n) in out.tets.iter().zip(&out.neighbours) {
             for k in 0..4 {
                 if n[k] == u32::MAX {

@@ -43,7 +43,7 @@ use crate::plc3::SurfaceTriangle;
 use crate::recovery3::{cross, dot, sub};
 use delmesh_delaunay_core::{StarSearch, Triangulation3, VertexId};
 use delmesh_predicates::{insphere, orient2d, orient3d, Sign};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// Which coplanar triangles may be re-triangulated together.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -138,7 +138,7 @@ pub(crate) fn flip_planar_diagonals(
     let vertex = |i: u32| tri.vertex_of_input(i as usize);
     // Surface edges (by vertex, lower first) and the triangles on each; edges of more than two
     // triangles are never flipped.
-    let mut edges: HashMap<(VertexId, VertexId), [u32; 2]> = HashMap::new();
+    let mut edges: HashMap<(VertexId, VertexId), [u32; 2]> = HashMap::default();
     let key = |a: VertexId, b: VertexId| if a < b { (a, b) } else { (b, a) };
     const NONE: u32 = u32::MAX;
     const MANY: u32 = u32::MAX - 1;

@@ -25,7 +25,7 @@ use delmesh_delaunay_core::{
     Triangulation2, VertexId, D2,
 };
 use delmesh_predicates::{orient2d, Sign};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 use std::fmt;
 use std::sync::Arc;
 
@@ -607,7 +607,7 @@ impl<'a> State<'a> {
         // kept once.
         let mut work: Vec<Sub> = std::mem::take(&mut self.subs);
         work.reverse();
-        let mut present = std::collections::HashSet::new();
+        let mut present = rustc_hash::FxHashSet::default();
         while let Some(s) = work.pop() {
             match cdt.insert_segment(s.a, s.b) {
                 Ok(()) => {
@@ -825,7 +825,7 @@ fn a_priori_points(
     }
     let cell = (total / state.subs.len().max(1) as f64).max(f64::MIN_POSITIVE);
     let key = |p: [f64; 2]| ((p[0] / cell).floor() as i64, (p[1] / cell).floor() as i64);
-    let mut grid: HashMap<(i64, i64), Vec<[f64; 2]>> = HashMap::new();
+    let mut grid: HashMap<(i64, i64), Vec<[f64; 2]>> = HashMap::default();
     for v in 0..tri.num_vertices() as u32 {
         let p = tri.vertex(VertexId(v));
         grid.entry(key(p)).or_default().push(p);

@@ -77,7 +77,7 @@ use delmesh_delaunay_core::{
 };
 use delmesh_predicates::{orient2d, orient3d, Sign};
 use rayon::prelude::*;
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 use std::fmt;
 
 /// How the surface is recovered.
@@ -1111,7 +1111,7 @@ impl<'a> State<'a> {
         let n = plc.points.len();
         let first = u64::from(plc.first_index);
         let v = |i: u32| tri.vertex_of_input(i as usize);
-        let mut seg_of: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut seg_of: HashMap<(u32, u32), u32> = HashMap::default();
         let mut segs: Vec<Seg> = Vec::new();
         let mut facs = Vec::with_capacity(plc.triangles.len());
         for t in &plc.triangles {
@@ -1193,7 +1193,7 @@ impl<'a> State<'a> {
                 .map(|s| edge_key(s.pts[0].1, s.pts[1].1))
                 .collect()
         } else {
-            HashSet::new()
+            HashSet::default()
         };
         Ok(State {
             ct: ConstrainedTriangulation3::new(tri),
@@ -1486,7 +1486,7 @@ impl<'a> State<'a> {
             t
         };
         // Each sub-face by its sorted corners: its facet, and its corners as oriented there.
-        let mut subface: HashMap<[VertexId; 3], (u32, [VertexId; 3])> = HashMap::new();
+        let mut subface: HashMap<[VertexId; 3], (u32, [VertexId; 3])> = HashMap::default();
         for (f, fac) in self.facs.iter().enumerate() {
             for &t in &fac.subfaces {
                 subface.insert(sorted(t), (f as u32, t));
@@ -1947,7 +1947,7 @@ impl<'a> State<'a> {
             let on_edges = self.boundary_edges_at(f);
             let coords = self.facet_frame_coords(f);
             // The sub-faces by their directed edges; a pair shares an edge run both ways.
-            let mut by_edge: HashMap<(VertexId, VertexId), usize> = HashMap::new();
+            let mut by_edge: HashMap<(VertexId, VertexId), usize> = HashMap::default();
             for (k, &t) in subfaces.iter().enumerate() {
                 by_edge.extend(directed_edges(t).map(|e| (e, k)));
             }
@@ -2041,7 +2041,7 @@ impl<'a> State<'a> {
         let coords = self.facet_frame_coords(f);
         let on_edges = self.boundary_edges_at(f);
         // The missing sub-faces by their directed edges: a pair shares an edge run both ways.
-        let mut by_edge: HashMap<(VertexId, VertexId), usize> = HashMap::new();
+        let mut by_edge: HashMap<(VertexId, VertexId), usize> = HashMap::default();
         for &k in absent.iter() {
             by_edge.extend(directed_edges(subfaces[k]).map(|e| (e, k)));
         }
@@ -2087,7 +2087,7 @@ impl<'a> State<'a> {
     /// For each vertex on facet `f`'s boundary, the facet edges (indices into its `segs`) it
     /// lies on: one, or two at a corner (more where a merged facet's loops touch).
     fn boundary_edges_at(&self, f: usize) -> HashMap<VertexId, Vec<u32>> {
-        let mut on_edges: HashMap<VertexId, Vec<u32>> = HashMap::new();
+        let mut on_edges: HashMap<VertexId, Vec<u32>> = HashMap::default();
         for (k, &(s, _)) in self.facs[f].segs.iter().enumerate() {
             for p in &self.segs[s as usize].pts {
                 on_edges.entry(p.1).or_default().push(k as u32);

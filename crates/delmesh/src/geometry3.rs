@@ -35,7 +35,7 @@
 //! | [`two_bodies`] | 1 box, 2 sphere, 3 ellipsoid |
 //! | [`blocks`] | 1 outer surface, 2 internal walls |
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 use std::f64::consts::PI;
 
 use delmesh_boundary_recovery::{Plc3, SurfaceTriangle};
@@ -143,7 +143,7 @@ pub fn box_surface(lo: [f64; 3], hi: [f64; 3], divisions: [usize; 3], marker: i3
         }
     };
     let mut surface = Surface3::default();
-    let mut index: HashMap<[usize; 3], u32> = HashMap::new();
+    let mut index: HashMap<[usize; 3], u32> = HashMap::default();
     let mut facet = 0u32;
     for q in 0..3 {
         let others = [(q + 1) % 3, (q + 2) % 3];
@@ -254,7 +254,7 @@ pub fn icosphere(centre: [f64; 3], radius: f64, frequency: usize, marker: i32) -
     let mut surface = Surface3::default();
     // A point of the subdivision is keyed by its weights on the icosahedron's vertices, which
     // do not depend on the face it is seen from.
-    let mut index: HashMap<[(usize, usize); 3], u32> = HashMap::new();
+    let mut index: HashMap<[(usize, usize); 3], u32> = HashMap::default();
     for face in &faces {
         let mut id = |i: usize, j: usize| -> u32 {
             let w = [(face[0], k - i - j), (face[1], i), (face[2], j)];
@@ -898,7 +898,7 @@ pub fn two_bodies(n: usize) -> Plc3 {
 /// Markers: 1 outer surface, 2 walls.
 pub fn blocks(count: usize, n: usize) -> Plc3 {
     let mut plc = Plc3::default();
-    let mut index: HashMap<[u64; 3], u32> = HashMap::new();
+    let mut index: HashMap<[u64; 3], u32> = HashMap::default();
     let count = count.max(1);
     for k in 0..count {
         let x = k as f64;

@@ -15,7 +15,7 @@
 //! # Ok::<(), delmesh::Error>(())
 //! ```
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -892,7 +892,8 @@ pub fn restore_delaunay(
         marker_names: Vec::new(),
     };
     // The domain's side of each boundary triangle, from the tetrahedron on it.
-    let mut opposite: HashMap<[u32; 3], u32> = HashMap::with_capacity(2 * arrays.faces.len());
+    let mut opposite: HashMap<[u32; 3], u32> =
+        HashMap::with_capacity_and_hasher(2 * arrays.faces.len(), Default::default());
     let on = &arrays.on_boundary;
     for t in &arrays.tets {
         if t.iter().filter(|&&v| on[v as usize]).count() < 3 {

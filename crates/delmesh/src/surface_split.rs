@@ -13,7 +13,7 @@
 //!
 //! [`MeshOptions3::surface_spacing`]: crate::mesh3d::MeshOptions3::surface_spacing
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 use delmesh_boundary_recovery::{
     first_occurrences, Mesh3, Plc2, Plc3, RecoveryMethod, Segment, SurfaceTriangle,
@@ -30,13 +30,14 @@ use delmesh_predicates::{orient3d, Sign};
 /// The finest spacing asked of each facet (by facet id): the smallest cap (by region index) of
 /// the regions on either side of its faces in `mesh`; facets with none are left out.
 pub(crate) fn facet_caps(mesh: &Mesh3, caps: &[f64]) -> HashMap<u32, f64> {
-    let mut facet_of: HashMap<[VertexId; 3], u32> = HashMap::with_capacity(mesh.faces.len());
+    let mut facet_of: HashMap<[VertexId; 3], u32> =
+        HashMap::with_capacity_and_hasher(mesh.faces.len(), Default::default());
     for f in &mesh.faces {
         let mut v = f.v;
         v.sort_unstable();
         facet_of.insert(v, f.facet);
     }
-    let mut out = HashMap::new();
+    let mut out = HashMap::default();
     let tri = mesh.ct.triangulation();
     for c in mesh.elements() {
         let Some(&cap) = caps.get(mesh.ct.tag(c) as usize).filter(|h| h.is_finite()) else {
@@ -82,7 +83,7 @@ pub(crate) fn split_surface(
 ) -> Result<Option<Plc3>, Error> {
     let tris = on_first_occurrences(plc);
     // Pieces of each edge (by sorted ends): enough for the finest triangle on it.
-    let mut pieces: HashMap<(u32, u32), usize> = HashMap::new();
+    let mut pieces: HashMap<(u32, u32), usize> = HashMap::default();
     for (k, t) in tris.iter().enumerate() {
         let cap = cap_of(k);
         if !cap.is_finite() {
@@ -109,7 +110,7 @@ pub(crate) fn split_surface(
     // (In edge order, so that the numbering, and the mesh, do not depend on the hash.)
     let mut edges: Vec<((u32, u32), usize)> = pieces.into_iter().collect();
     edges.sort_unstable();
-    let mut inside: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+    let mut inside: HashMap<(u32, u32), Vec<u32>> = HashMap::default();
     for &((a, b), n) in &edges {
         let (pa, pb) = (plc.points[a as usize], plc.points[b as usize]);
         let ids = (1..n)
@@ -434,7 +435,8 @@ pub(crate) fn remesh_surface(plc: &Plc3, sizing: &SurfaceSizing) -> Result<Optio
         return Ok(None);
     }
     // The triangles on each edge, and each edge's direction in them.
-    let mut on_edge: HashMap<(u32, u32), Vec<(u32, bool)>> = HashMap::with_capacity(tris.len() * 2);
+    let mut on_edge: HashMap<(u32, u32), Vec<(u32, bool)>> =
+        HashMap::with_capacity_and_hasher(tris.len() * 2, Default::default());
     for (k, t) in tris.iter().enumerate() {
         for j in 0..3 {
             let (a, b) = (t.v[j], t.v[(j + 1) % 3]);
@@ -498,7 +500,8 @@ pub(crate) fn remesh_surface(plc: &Plc3, sizing: &SurfaceSizing) -> Result<Optio
         .map(|(&e, _)| e)
         .collect();
     edges.sort_unstable();
-    let mut inside: HashMap<(u32, u32), Vec<u32>> = HashMap::with_capacity(edges.len());
+    let mut inside: HashMap<(u32, u32), Vec<u32>> =
+        HashMap::with_capacity_and_hasher(edges.len(), Default::default());
     let splits: Vec<Vec<f64>> = edges
         .par_iter()
         .map(|&(a, b)| sizing.edge_splits(point(a), point(b)))
@@ -528,7 +531,7 @@ pub(crate) fn remesh_surface(plc: &Plc3, sizing: &SurfaceSizing) -> Result<Optio
             let at = |i: u32| corners.binary_search(&i).expect("a corner of the patch");
             let mut ids = corners.clone();
             let mut segments = Vec::new();
-            let mut seen = std::collections::HashSet::new();
+            let mut seen = rustc_hash::FxHashSet::default();
             for &t in members {
                 let v = tris[t as usize].v;
                 for j in 0..3 {

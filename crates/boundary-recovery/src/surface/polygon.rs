@@ -26,7 +26,7 @@ use delmesh_delaunay_core::{
     CellId, ConstrainedTriangulation2, ConstraintError, Location, Triangulation2, VertexId,
 };
 use delmesh_predicates::{incircle_lex, Sign};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// A planar polygonal facet: polygons, hole points and a boundary marker.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -68,7 +68,7 @@ fn triangulate_facet(
     let degenerate = |why| SurfaceError::FacetDegenerate { facet: fname, why };
     // The facet's points, each once, in order of appearance.
     let mut local: Vec<u32> = Vec::new();
-    let mut local_of: HashMap<u32, u32> = HashMap::new();
+    let mut local_of: HashMap<u32, u32> = HashMap::default();
     for &v in facet.polygons.iter().flatten() {
         if v as usize >= points.len() {
             return Err(SurfaceError::BadIndex {
