@@ -6,6 +6,9 @@ use delmesh_delaunay_core::TriangulationError;
 /// Why a [`crate::Plc2`] could not be meshed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RecoveryError {
+    /// The caller stopped the recovery (see `BoundaryRecovery3::cancel_on`).
+    #[error("boundary recovery was stopped before it was finished")]
+    Cancelled,
     /// A coordinate is NaN or infinite.
     #[error("point {point}: coordinate is not finite")]
     NonFinite {

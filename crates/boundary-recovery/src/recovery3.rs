@@ -73,12 +73,14 @@ use crate::recovery::merged_list;
 use crate::surface::{check_surface, CheckedSurface, PointLocation};
 use delmesh_delaunay_core::{
     find_face_in, CellId, ConstrainedTriangulation2, ConstrainedTriangulation3, FacetRef, FlipIn,
-    Insertion, StarSearch, Triangulation2, Triangulation3, VertexId,
+    Insertion, StarSearch, Triangulation2, Triangulation3, TriangulationError, VertexId,
 };
 use delmesh_predicates::{orient2d, orient3d, Sign};
 use rayon::prelude::*;
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 use std::fmt;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// How the surface is recovered.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -401,6 +403,8 @@ pub struct BoundaryRecovery3 {
     merge_coplanar: bool,
     /// Merge coplanar facets when the facets as given cost too many points.
     coplanar_fallback: bool,
+    /// Once set, the run stops with [`RecoveryError::Cancelled`].
+    cancel: Option<Arc<AtomicBool>>,
 }
 
 impl Default for BoundaryRecovery3 {
@@ -439,6 +443,8 @@ struct Fac {
 
 /// Recovery in progress.
 struct State<'a> {
+    /// Once set, the rounds stop with [`RecoveryError::Cancelled`].
+    cancel: Option<Arc<AtomicBool>>,
     ct: ConstrainedTriangulation3,
     plc: &'a Plc3,
     segs: Vec<Seg>,
@@ -488,7 +494,16 @@ impl BoundaryRecovery3 {
             trusted: false,
             merge_coplanar: false,
             coplanar_fallback: true,
+            cancel: None,
         }
+    }
+
+    /// Stops the run with [`RecoveryError::Cancelled`] soon after `flag` is set (it is looked
+    /// at every few thousand points of the Delaunay construction and before each round of
+    /// recovery): for a recovery run beside another attempt that may make it unnecessary.
+    pub fn cancel_on(mut self, flag: Arc<AtomicBool>) -> Self {
+        self.cancel = Some(flag);
+        self
     }
 
     /// Lets recovery re-triangulate coplanar neighbouring triangles of different input facets
@@ -566,7 +581,7 @@ impl BoundaryRecovery3 {
         let (checked, early) = if self.trusted {
             (None, None)
         } else if alone {
-            let (c, t) = rayon::join(|| check_surface(plc), || Triangulation3::new(&plc.points));
+            let (c, t) = rayon::join(|| check_surface(plc), || self.triangulate(&plc.points));
             (Some(c?), Some(t))
         } else {
             (Some(check_surface(plc)?), None)
@@ -636,7 +651,7 @@ impl BoundaryRecovery3 {
         }
         let tri = match early {
             Some(t) => t?,
-            None => Triangulation3::new(&points)?,
+            None => self.triangulate(&points)?,
         };
         // Planar patches re-triangulated by flips before recovery (see `planar`).
         let patches = if self.merge_coplanar {
@@ -673,7 +688,8 @@ impl BoundaryRecovery3 {
         // A constrained recovery that does not finish is followed by the conforming one (both
         // within the cap when there is a merged surface to fall back on).
         let fallback = constrained.then(|| tri.clone());
-        let state = State::new(tri, plc, self.max_steiner, constrained)?;
+        let mut state = State::new(tri, plc, self.max_steiner, constrained)?;
+        state.cancel = self.cancel.clone();
         // Vertices by where their point came from (duplicates merged).
         let n_extra = extra.len();
         let from = |lo: usize, hi: usize| {
@@ -848,6 +864,21 @@ impl BoundaryRecovery3 {
 }
 
 impl BoundaryRecovery3 {
+    /// Whether the caller asked the run to stop (see [`BoundaryRecovery3::cancel_on`]).
+    fn cancelled(&self) -> bool {
+        self.cancel
+            .as_ref()
+            .is_some_and(|c| c.load(Ordering::Relaxed))
+    }
+
+    /// The Delaunay tetrahedralisation of `points`, stopped if the caller cancels.
+    fn triangulate(&self, points: &[[f64; 3]]) -> Result<Triangulation3, RecoveryError> {
+        Triangulation3::with_progress_until(points, |_, _| !self.cancelled()).map_err(|e| match e {
+            TriangulationError::Cancelled => RecoveryError::Cancelled,
+            e => e.into(),
+        })
+    }
+
     /// A recovery of `plc`'s triangles in `tri`, from scratch (a constrained one followed by
     /// the conforming one if it does not finish), adding at most `cap` points.
     fn attempt<'p>(
@@ -860,7 +891,8 @@ impl BoundaryRecovery3 {
     ) -> Result<State<'p>, RecoveryError> {
         let constrained = self.method == RecoveryMethod3::Constrained;
         let fallback = constrained.then(|| tri.clone());
-        let state = State::new(tri, plc, self.max_steiner, constrained)?;
+        let mut state = State::new(tri, plc, self.max_steiner, constrained)?;
+        state.cancel = self.cancel.clone();
         history.surface_edges = state.segs.len();
         state.recover_all(fallback, self.max_steiner, cap, sides, history)
     }
@@ -1089,6 +1121,7 @@ impl<'a> State<'a> {
             (Ok(()), _) => Ok(self),
             (Err(_), Some((tri, initial))) => {
                 let mut state = State::new(tri, self.plc, max_steiner, false)?;
+                state.cancel = self.cancel.clone();
                 state.budget = state.budget.min(cap);
                 *history = RecoveryHistory3 {
                     constrained_fallback: true,
@@ -1196,6 +1229,7 @@ impl<'a> State<'a> {
             HashSet::default()
         };
         Ok(State {
+            cancel: None,
             ct: ConstrainedTriangulation3::new(tri),
             plc,
             segs,
@@ -1540,6 +1574,7 @@ impl<'a> State<'a> {
         // Face rounds in a row that ended with more missing faces than the one before.
         let (mut growing, mut last_missing) = (0, usize::MAX);
         loop {
+            self.stop_if_cancelled()?;
             self.recover_edges(history)?;
             let missing = self.check_faces();
             let n_faces: usize = self.facs.iter().map(|f| f.subfaces.len()).sum();
@@ -1584,9 +1619,18 @@ impl<'a> State<'a> {
         }
     }
 
+    /// [`RecoveryError::Cancelled`] once the caller has set the cancel flag.
+    fn stop_if_cancelled(&self) -> Result<(), RecoveryError> {
+        match &self.cancel {
+            Some(c) if c.load(Ordering::Relaxed) => Err(RecoveryError::Cancelled),
+            _ => Ok(()),
+        }
+    }
+
     /// Mid-point / shell insertion until every sub-segment is present.
     fn recover_edges(&mut self, history: &mut RecoveryHistory3) -> Result<(), RecoveryError> {
         loop {
+            self.stop_if_cancelled()?;
             let missing = self.missing_subsegments();
             history.steps.push(RecoveryStep::Edges {
                 points: self.ct.triangulation().num_vertices(),
@@ -1898,14 +1942,6 @@ impl<'a> State<'a> {
                 if cos < FLAT_SURFACE.to_radians().cos() || min_dihedral(pts) >= FLAT_DIHEDRAL {
                     continue;
                 }
-                if !is_tetrahedron(
-                    &mut self.stars,
-                    self.ct.triangulation(),
-                    [u, w, x, y],
-                    &mut star,
-                ) {
-                    continue;
-                }
                 let on_domain_side = |t: [VertexId; 3], z: VertexId, s: f64| {
                     if s == BOTH_SIDES {
                         return true;
@@ -1918,7 +1954,16 @@ impl<'a> State<'a> {
                         s < 0.0
                     }
                 };
-                if on_domain_side(t0, y, s0) && on_domain_side(t1, x, s1) {
+                // (The star search last: it costs more than the orientation tests.)
+                if on_domain_side(t0, y, s0)
+                    && on_domain_side(t1, x, s1)
+                    && is_tetrahedron(
+                        &mut self.stars,
+                        self.ct.triangulation(),
+                        [u, w, x, y],
+                        &mut star,
+                    )
+                {
                     todo.push((si, k));
                 }
             }
@@ -1972,12 +2017,6 @@ impl<'a> State<'a> {
                         || y == x
                         || on_one_edge(&on_edges, [u, y, x])
                         || on_one_edge(&on_edges, [y, w, x])
-                        || !is_tetrahedron(
-                            &mut self.stars,
-                            self.ct.triangulation(),
-                            [u, w, x, y],
-                            &mut star,
-                        )
                     {
                         continue;
                     }
@@ -2003,7 +2042,17 @@ impl<'a> State<'a> {
                         }
                         _ => false,
                     };
-                    if inside && convex && budget > 0 {
+                    // (The star search last: it costs more than the tests above.)
+                    if inside
+                        && convex
+                        && budget > 0
+                        && is_tetrahedron(
+                            &mut self.stars,
+                            self.ct.triangulation(),
+                            [u, w, x, y],
+                            &mut star,
+                        )
+                    {
                         budget -= 1;
                         for k in [i, j] {
                             for e in directed_edges(subfaces[k]) {

@@ -11,6 +11,8 @@ use delmesh_predicates::{orient3d, Sign};
 use proptest::prelude::*;
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// Adds a closed surface (points and triangles in local numbering) with one marker.
 fn add_surface(plc: &mut Plc3, points: &[[f64; 3]], triangles: &[[u32; 3]], marker: i32) {
@@ -392,6 +394,31 @@ fn duplicate_points_are_merged_and_reported_in_the_history() {
         "{}",
         mesh.history
     );
+}
+
+#[test]
+fn a_recovery_its_caller_stops_is_cancelled() {
+    let mut plc = Plc3::default();
+    let (p, t) = box_surface([-2.0; 3], [2.0; 3], 4, true);
+    add_surface(&mut plc, &p, &t, 1);
+    let (q, s) = icosphere([0.1, 0.05, -0.02], 0.7, 2);
+    add_surface(&mut plc, &q, &s, 2);
+    let stop = Arc::new(AtomicBool::new(true));
+    let stopped = BoundaryRecovery3::default()
+        .cancel_on(stop.clone())
+        .run(&plc);
+    assert!(
+        matches!(stopped, Err(RecoveryError::Cancelled)),
+        "{stopped:?}"
+    );
+    // Not set: the flag changes nothing.
+    stop.store(false, Ordering::Relaxed);
+    let mesh = BoundaryRecovery3::default()
+        .cancel_on(stop)
+        .run(&plc)
+        .unwrap();
+    let plain = BoundaryRecovery3::default().run(&plc).unwrap();
+    assert_eq!(mesh.to_arrays().tets, plain.to_arrays().tets);
 }
 
 #[test]

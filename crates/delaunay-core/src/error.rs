@@ -5,6 +5,9 @@ use crate::ids::VertexId;
 /// Why a triangulation could not be built or a point not inserted.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum TriangulationError {
+    /// The caller stopped the construction (see [`crate::Triangulation::with_progress_until`]).
+    #[error("the triangulation was stopped before it was finished")]
+    Cancelled,
     /// A coordinate is NaN or infinite.
     #[error("point {index}: coordinate {axis} is not finite ({value})")]
     NonFinite {

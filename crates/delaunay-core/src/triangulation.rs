@@ -230,13 +230,29 @@ impl<D: Dim> Triangulation<D> {
         Self::with_progress(points, |_, _| {})
     }
 
-    /// As [`Triangulation::new`], calling `progress(inserted, total)` every few thousand points.
+    /// As [`Triangulation::new`], calling `progress(inserted, total)` every thousand points or so.
     ///
     /// # Errors
     /// As [`Triangulation::new`].
     pub fn with_progress(
         points: &[D::Point],
         mut progress: impl FnMut(usize, usize),
+    ) -> Result<Self, TriangulationError> {
+        Self::with_progress_until(points, |done, total| {
+            progress(done, total);
+            true
+        })
+    }
+
+    /// As [`Triangulation::with_progress`], but stops with [`TriangulationError::Cancelled`]
+    /// as soon as `progress` returns false (it is called every few thousand points): for a
+    /// construction run beside another attempt that may make it unnecessary.
+    ///
+    /// # Errors
+    /// As [`Triangulation::new`], or [`TriangulationError::Cancelled`].
+    pub fn with_progress_until(
+        points: &[D::Point],
+        mut progress: impl FnMut(usize, usize) -> bool,
     ) -> Result<Self, TriangulationError> {
         if points.len() >= MAX_POINTS {
             return Err(TriangulationError::TooManyPoints(points.len()));
@@ -301,7 +317,7 @@ impl<D: Dim> Triangulation<D> {
 
         let total = points.len();
         let mut done = D::C;
-        let mut next_report = 1 << 16;
+        let mut next_report = 1 << 10;
         for (pos, &i) in order.iter().enumerate().skip(D::C) {
             match tri.insert_scaled(tri.points[pos], i) {
                 Insertion::Inserted(_) => {}
@@ -314,8 +330,10 @@ impl<D: Dim> Triangulation<D> {
             }
             done += 1;
             if done >= next_report {
-                progress(done, total);
-                next_report += 1 << 16;
+                if !progress(done, total) {
+                    return Err(TriangulationError::Cancelled);
+                }
+                next_report += 1 << 10;
             }
         }
         tri.duplicates = (0..total)
@@ -327,7 +345,9 @@ impl<D: Dim> Triangulation<D> {
         tri.points.truncate(tri.input_index.len());
         tri.bulk = false;
         tri.rebuild_incident();
-        progress(total, total);
+        if !progress(total, total) {
+            return Err(TriangulationError::Cancelled);
+        }
         Ok(tri)
     }
 

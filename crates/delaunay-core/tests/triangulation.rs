@@ -564,3 +564,21 @@ fn edge_queries_agree_with_the_cells_around_an_edge() {
         }
     }
 }
+
+#[test]
+fn a_construction_its_caller_stops_is_cancelled() {
+    let pts = uniform3(5000, 11);
+    let mut calls = 0;
+    let stopped = Triangulation3::with_progress_until(&pts, |done, _| {
+        calls += 1;
+        done < 2000
+    });
+    assert!(matches!(stopped, Err(TriangulationError::Cancelled)));
+    assert!(calls >= 2, "{calls}");
+    let whole = Triangulation3::with_progress_until(&pts, |_, _| true).unwrap();
+    whole.validate().unwrap();
+    assert_eq!(
+        whole.num_cells(),
+        Triangulation3::new(&pts).unwrap().num_cells()
+    );
+}

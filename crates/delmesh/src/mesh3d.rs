@@ -17,6 +17,8 @@
 
 use rustc_hash::FxHashMap as HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 use delmesh_boundary_recovery::{
@@ -694,7 +696,9 @@ pub const UNDO_ROUNDS: usize = 4;
 /// (each only if no cell around it inverts) and the flips go on, up to [`UNDO_ROUNDS`]
 /// times: a face that smoothing made fail often passes again (bunny00 stalled on one face,
 /// and triangulating again took 1.1 s of its 3 s). Only if faces are still left is `mesh`
-/// replaced by [`restore_delaunay`]'s.
+/// replaced by [`restore_delaunay`]'s. That one starts beside the splits (on another thread)
+/// as soon as the first flips leave a face, and is stopped when the splits finish: where they
+/// do not, its time is not added to theirs.
 ///
 /// # Errors
 /// As [`restore_delaunay`], when it is needed.
@@ -710,76 +714,123 @@ pub fn restore_after_smoothing(
         .iter()
         .map(|&(v, _)| (v, mesh.ct.triangulation().vertex(v)))
         .collect();
-    // Every cell is in scope: a split boundary edge changes cells outside the domain too.
-    let all = |_tag: u32| true;
     // Smoothing keeps every element positive (exactly), so the move is accepted; if it were
     // not, the flips could not start and the mesh is rebuilt.
-    let mut kept = None;
-    if mesh.ct.move_vertices(&moves).is_ok() {
-        let mut flips = mesh.ct.make_delaunay(all);
-        let mut total = Flips3 {
-            failing: flips.failing,
-            ..Flips3::default()
-        };
-        let (mut split_edges, mut surface_points) = (0, 0);
-        let (mut fewest, mut stale) = (usize::MAX, 0);
-        let budget = flips.left.len() + flips.left.len() / 2 + 64;
-        let mut index = mesh.face_index();
-        for round in 0..=MAX_SPLIT_ROUNDS {
-            total.two_three += flips.two_three;
-            total.three_two += flips.three_two;
-            total.four_four += flips.four_four;
-            if flips.left.is_empty() {
-                return Ok(Restoration3::Flips {
-                    flips: total,
-                    split_edges,
-                    surface_points,
-                    undone: 0,
-                });
-            }
-            // Where interior points crowd the surface, splits make as many failing faces as
-            // they mend: the rounds stop after four without a new low, or before the splits
-            // would exceed one and a half times the faces the flips first left (plus 64).
-            if flips.left.len() < fewest {
-                (fewest, stale) = (flips.left.len(), 0);
-            } else {
-                stale += 1;
-            }
-            if round == MAX_SPLIT_ROUNDS || stale >= 4 || split_edges + flips.left.len() > budget {
-                let undone = undo_smoothing_near(mesh, &mut flips, &mut total, &found);
-                if flips.left.is_empty() {
-                    return Ok(Restoration3::Flips {
-                        flips: total,
-                        split_edges,
-                        surface_points,
-                        undone,
-                    });
-                }
-                total.left = flips.left.clone();
-                kept = Some((total.clone(), split_edges, surface_points));
-                break;
-            }
-            let mut next = flips.left.clone();
-            for &f in &flips.left {
-                // An earlier split of this round may have removed the face already.
-                if !mesh.ct.face_fails(f, all) {
-                    continue;
-                }
-                // (Splitting another edge of the face instead only moves the failing face to
-                // the new vertex: measured.)
-                let [x, y] = mesh.ct.edges_to_split(f)[0];
-                if let Ok(Some(v)) = mesh.split_edge(x, y, &mut index) {
-                    split_edges += 1;
-                    surface_points += usize::from(mesh.on_surface[v.index()]);
-                    for &c in mesh.ct.last_new_cells() {
-                        next.extend((0..4).map(|i| FacetRef::new(c, i)));
-                    }
-                }
-            }
-            flips = mesh.ct.make_delaunay_from(next, all);
-        }
+    if mesh.ct.move_vertices(&moves).is_err() {
+        let again = restore_delaunay_until(arrays, plc, max_steiner_points, None);
+        return retriangulated(mesh, arrays, again, None);
     }
-    match (restore_delaunay(arrays, plc, max_steiner_points), kept) {
+    // Every cell is in scope: a split boundary edge changes cells outside the domain too.
+    let flips = mesh.ct.make_delaunay(|_| true);
+    if flips.left.is_empty() {
+        return Ok(Restoration3::Flips {
+            flips,
+            split_edges: 0,
+            surface_points: 0,
+            undone: 0,
+        });
+    }
+    // The flips stopped short. Edge splits may finish in the mesh, or not: triangulating
+    // again starts at once beside them (it is what takes long) and is stopped if they do.
+    let stop = Arc::new(AtomicBool::new(false));
+    let (in_place, again) = rayon::join(
+        || {
+            let done = split_in_place(mesh, flips, &found);
+            if done.is_ok() {
+                stop.store(true, Ordering::Relaxed);
+            }
+            done
+        },
+        || restore_delaunay_until(arrays, plc, max_steiner_points, Some(stop.clone())),
+    );
+    match in_place {
+        Ok(done) => Ok(done),
+        Err(kept) => retriangulated(mesh, arrays, again, Some(kept)),
+    }
+}
+
+/// The flips, edge splits and undone smoothing moves of [`restore_after_smoothing`] after its
+/// first flips (`flips`) left faces failing: the restoration if they finish, else the flips
+/// with the faces left, the edges split and the surface points among them.
+fn split_in_place(
+    mesh: &mut Mesh3,
+    mut flips: Flips3,
+    found: &HashMap<VertexId, [f64; 3]>,
+) -> Result<Restoration3, (Flips3, usize, usize)> {
+    let all = |_tag: u32| true;
+    let mut total = Flips3 {
+        failing: flips.failing,
+        ..Flips3::default()
+    };
+    let (mut split_edges, mut surface_points) = (0, 0);
+    let (mut fewest, mut stale) = (usize::MAX, 0);
+    let budget = flips.left.len() + flips.left.len() / 2 + 64;
+    let mut index = mesh.face_index();
+    for round in 0..=MAX_SPLIT_ROUNDS {
+        total.two_three += flips.two_three;
+        total.three_two += flips.three_two;
+        total.four_four += flips.four_four;
+        if flips.left.is_empty() {
+            return Ok(Restoration3::Flips {
+                flips: total,
+                split_edges,
+                surface_points,
+                undone: 0,
+            });
+        }
+        // Where interior points crowd the surface, splits make as many failing faces as
+        // they mend: the rounds stop after four without a new low, or before the splits
+        // would exceed one and a half times the faces the flips first left (plus 64).
+        if flips.left.len() < fewest {
+            (fewest, stale) = (flips.left.len(), 0);
+        } else {
+            stale += 1;
+        }
+        if round == MAX_SPLIT_ROUNDS || stale >= 4 || split_edges + flips.left.len() > budget {
+            break;
+        }
+        let mut next = flips.left.clone();
+        for &f in &flips.left {
+            // An earlier split of this round may have removed the face already.
+            if !mesh.ct.face_fails(f, all) {
+                continue;
+            }
+            // (Splitting another edge of the face instead only moves the failing face to
+            // the new vertex: measured.)
+            let [x, y] = mesh.ct.edges_to_split(f)[0];
+            if let Ok(Some(v)) = mesh.split_edge(x, y, &mut index) {
+                split_edges += 1;
+                surface_points += usize::from(mesh.on_surface[v.index()]);
+                for &c in mesh.ct.last_new_cells() {
+                    next.extend((0..4).map(|i| FacetRef::new(c, i)));
+                }
+            }
+        }
+        flips = mesh.ct.make_delaunay_from(next, all);
+    }
+    let undone = undo_smoothing_near(mesh, &mut flips, &mut total, found);
+    if flips.left.is_empty() {
+        return Ok(Restoration3::Flips {
+            flips: total,
+            split_edges,
+            surface_points,
+            undone,
+        });
+    }
+    total.left = flips.left;
+    Err((total, split_edges, surface_points))
+}
+
+/// `mesh` replaced by `again`, the mesh [`restore_delaunay`] made, with the spacing generation
+/// gave its points; if that failed, the mesh as the flips and splits left it (`kept`: the
+/// flips, the edges split, the surface points), valid but not Delaunay everywhere.
+fn retriangulated(
+    mesh: &mut Mesh3,
+    arrays: &MeshArrays3,
+    again: Result<Mesh3, Error>,
+    kept: Option<(Flips3, usize, usize)>,
+) -> Result<Restoration3, Error> {
+    match (again, kept) {
         (Ok(mut restored), _) => {
             // The points keep the spacing generation gave them (the recovery that rebuilt
             // the mesh knows the surface's only).
@@ -876,6 +927,20 @@ pub fn restore_delaunay(
     plc: &Plc3,
     max_steiner_points: Option<usize>,
 ) -> Result<Mesh3, Error> {
+    restore_delaunay_until(arrays, plc, max_steiner_points, None)
+}
+
+/// [`restore_delaunay`], stopped with [`RecoveryError::Cancelled`] (as
+/// [`Error::Restoration`]) soon after `stop` is set.
+fn restore_delaunay_until(
+    arrays: &MeshArrays3,
+    plc: &Plc3,
+    max_steiner_points: Option<usize>,
+    stop: Option<Arc<AtomicBool>>,
+) -> Result<Mesh3, Error> {
+    if stop.as_ref().is_some_and(|s| s.load(Ordering::Relaxed)) {
+        return Err(Error::Restoration(RecoveryError::Cancelled));
+    }
     let surface = Plc3 {
         points: arrays.coords.clone(),
         point_markers: arrays.point_markers.clone(),
@@ -932,6 +997,9 @@ pub fn restore_delaunay(
         .with_domain_sides(sides);
     if let Some(n) = max_steiner_points {
         recovery = recovery.max_steiner_points(n);
+    }
+    if let Some(stop) = stop {
+        recovery = recovery.cancel_on(stop);
     }
     recovery.run(&surface).map_err(Error::Restoration)
 }
