@@ -6,6 +6,10 @@ use rustc_hash::FxHashMap as HashMap;
 use rayon::prelude::*;
 
 use crate::classify::OUTSIDE;
+
+/// Elements (or faces) per parallel task in [`Mesh3::to_arrays`]: below a few of these,
+/// waking the other threads costs more than the work shared.
+const PARALLEL_CHUNK: usize = 1 << 15;
 use crate::recovery3::{cross, dot, sub, BoundaryFace, Mesh3, RecoveryMethod3};
 use delmesh_delaunay_core::{
     CellId, ConstrainedTriangulation3, FacetRef, Renumbering, TriangulationError, VertexId,
@@ -446,39 +450,47 @@ impl Mesh3 {
     pub fn to_arrays(&self) -> MeshArrays3 {
         let tri = self.ct.triangulation();
         let nv = tri.num_vertices();
+        // (Slots scanned, and the per-element arrays made, in parallel: this runs after every
+        // stage that changes the mesh.)
+        let elements: Vec<CellId> = (0..tri.num_cell_slots() as u32)
+            .into_par_iter()
+            .with_min_len(PARALLEL_CHUNK)
+            .map(CellId)
+            .filter(|&c| tri.is_live(c) && !tri.is_ghost(c) && self.ct.tag(c) != OUTSIDE)
+            .collect();
         let mut used = vec![false; nv];
-        let elements: Vec<CellId> = self.elements().collect();
         for &c in &elements {
             for &v in tri.cell(c) {
                 used[v.index()] = true;
             }
         }
-        let mut order: Vec<VertexId> = (0..nv as u32)
-            .map(VertexId)
-            .filter(|v| used[v.index()])
-            .collect();
-        order.sort_by_key(|&v| tri.input_index(v));
+        // The used vertices in input order (each vertex has its own input index, so placing
+        // them by it sorts).
+        let mut by_input = vec![VertexId::GHOST; tri.num_input_points()];
+        for v in (0..nv as u32).map(VertexId).filter(|v| used[v.index()]) {
+            by_input[tri.input_index(v)] = v;
+        }
+        let order: Vec<VertexId> = by_input.into_iter().filter(|v| !v.is_ghost()).collect();
         let mut number = vec![u32::MAX; nv];
         for (k, &v) in order.iter().enumerate() {
             number[v.index()] = k as u32;
         }
         let mut out = MeshArrays3 {
-            coords: order.iter().map(|&v| tri.vertex(v)).collect(),
+            coords: order.par_iter().map(|&v| tri.vertex(v)).collect(),
             point_markers: vec![0; order.len()],
             on_boundary: vec![false; order.len()],
             vertex: order.clone(),
-            tets: Vec::with_capacity(elements.len()),
-            regions: Vec::with_capacity(elements.len()),
             ..Default::default()
         };
         // Each element's output index, by cell slot, for the neighbours.
-        let slots = elements.iter().map(|c| c.index() + 1).max().unwrap_or(0);
+        let slots = elements.last().map_or(0, |c| c.index() + 1);
         let mut index = vec![u32::MAX; slots];
         for (k, &c) in elements.iter().enumerate() {
             index[c.index()] = k as u32;
         }
         out.neighbours = elements
-            .iter()
+            .par_iter()
+            .with_min_len(PARALLEL_CHUNK)
             .map(|&c| {
                 [0, 1, 2, 3].map(|k| {
                     tri.neighbor(c, k)
@@ -487,25 +499,39 @@ impl Mesh3 {
                 })
             })
             .collect();
-        for &c in &elements {
-            let v = tri.cell(c);
-            out.tets.push([0, 1, 2, 3].map(|k| number[v[k].index()]));
-            let tag = self.ct.tag(c) as usize;
-            out.regions
-                .push(self.region_attributes.get(tag).copied().unwrap_or(0.0));
-        }
+        out.tets = elements
+            .par_iter()
+            .with_min_len(PARALLEL_CHUNK)
+            .map(|&c| {
+                let v = tri.cell(c);
+                [0, 1, 2, 3].map(|k| number[v[k].index()])
+            })
+            .collect();
+        out.regions = elements
+            .par_iter()
+            .with_min_len(PARALLEL_CHUNK)
+            .map(|&c| {
+                let tag = self.ct.tag(c) as usize;
+                self.region_attributes.get(tag).copied().unwrap_or(0.0)
+            })
+            .collect();
         // The corner opposite each face of the output's boundary, in its one element: a
         // boundary face there is turned to face out of the domain.
-        let mut inside_of: HashMap<[u32; 3], u32> = HashMap::default();
-        for (t, n) in out.tets.iter().zip(&out.neighbours) {
-            for k in 0..4 {
-                if n[k] == u32::MAX {
+        let inside_of: HashMap<[u32; 3], u32> = out
+            .tets
+            .par_iter()
+            .zip(&out.neighbours)
+            .with_min_len(PARALLEL_CHUNK)
+            .flat_map_iter(|(t, n)| {
+                (0..4).filter(|&k| n[k] == u32::MAX).map(move |k| {
                     let mut f = [t[(k + 1) % 4], t[(k + 2) % 4], t[(k + 3) % 4]];
                     f.sort_unstable();
-                    inside_of.insert(f, t[k]);
-                }
-            }
-        }
+                    (f, t[k])
+                })
+            })
+            .collect::<Vec<_>>()
+            .into_iter()
+            .collect();
         for f in &self.faces {
             let mut t = f.v.map(|v| number[v.index()]);
             if t.contains(&u32::MAX) {
