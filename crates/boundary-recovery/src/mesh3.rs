@@ -529,8 +529,6 @@ impl Mesh3 {
                     (f, t[k])
                 })
             })
-            .collect::<Vec<_>>()
-            .into_iter()
             .collect();
         for f in &self.faces {
             let mut t = f.v.map(|v| number[v.index()]);

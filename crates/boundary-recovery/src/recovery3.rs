@@ -499,8 +499,7 @@ impl BoundaryRecovery3 {
     }
 
     /// Stops the run with [`RecoveryError::Cancelled`] soon after `flag` is set (it is looked
-    /// at every few thousand points of the Delaunay construction and before each round of
-    /// recovery): for a recovery run beside another attempt that may make it unnecessary.
+    /// at every 1,024 points of the Delaunay construction and before each round of recovery): for a recovery run beside another attempt that may make it unnecessary.
     pub fn cancel_on(mut self, flag: Arc<AtomicBool>) -> Self {
         self.cancel = Some(flag);
         self
@@ -688,8 +687,7 @@ impl BoundaryRecovery3 {
         // A constrained recovery that does not finish is followed by the conforming one (both
         // within the cap when there is a merged surface to fall back on).
         let fallback = constrained.then(|| tri.clone());
-        let mut state = State::new(tri, plc, self.max_steiner, constrained)?;
-        state.cancel = self.cancel.clone();
+        let state = State::new(tri, plc, self.max_steiner, constrained, self.cancel.clone())?;
         // Vertices by where their point came from (duplicates merged).
         let n_extra = extra.len();
         let from = |lo: usize, hi: usize| {
@@ -864,18 +862,13 @@ impl BoundaryRecovery3 {
 }
 
 impl BoundaryRecovery3 {
-    /// Whether the caller asked the run to stop (see [`BoundaryRecovery3::cancel_on`]).
-    fn cancelled(&self) -> bool {
-        self.cancel
-            .as_ref()
-            .is_some_and(|c| c.load(Ordering::Relaxed))
-    }
-
     /// The Delaunay tetrahedralisation of `points`, stopped if the caller cancels.
     fn triangulate(&self, points: &[[f64; 3]]) -> Result<Triangulation3, RecoveryError> {
-        Triangulation3::with_progress_until(points, |_, _| !self.cancelled()).map_err(|e| match e {
-            TriangulationError::Cancelled => RecoveryError::Cancelled,
-            e => e.into(),
+        Triangulation3::with_progress_until(points, |_, _| !is_set(&self.cancel)).map_err(|e| {
+            match e {
+                TriangulationError::Cancelled => RecoveryError::Cancelled,
+                e => e.into(),
+            }
         })
     }
 
@@ -891,8 +884,7 @@ impl BoundaryRecovery3 {
     ) -> Result<State<'p>, RecoveryError> {
         let constrained = self.method == RecoveryMethod3::Constrained;
         let fallback = constrained.then(|| tri.clone());
-        let mut state = State::new(tri, plc, self.max_steiner, constrained)?;
-        state.cancel = self.cancel.clone();
+        let state = State::new(tri, plc, self.max_steiner, constrained, self.cancel.clone())?;
         history.surface_edges = state.segs.len();
         state.recover_all(fallback, self.max_steiner, cap, sides, history)
     }
@@ -937,6 +929,11 @@ fn splitting_order(mut splits: Vec<(u32, u32)>) -> Vec<(u32, u32)> {
         .collect();
     splits.sort_unstable_by_key(|&(s, k)| (round[&s], s, std::cmp::Reverse(k)));
     splits
+}
+
+/// Whether a cancel flag (see [`BoundaryRecovery3::cancel_on`]) is given and set.
+fn is_set(cancel: &Option<Arc<AtomicBool>>) -> bool {
+    cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed))
 }
 
 /// An edge's key in [`State::locked`]: its two vertices, lower first.
@@ -1120,8 +1117,7 @@ impl<'a> State<'a> {
         match (attempt, fallback.zip(initial)) {
             (Ok(()), _) => Ok(self),
             (Err(_), Some((tri, initial))) => {
-                let mut state = State::new(tri, self.plc, max_steiner, false)?;
-                state.cancel = self.cancel.clone();
+                let mut state = State::new(tri, self.plc, max_steiner, false, self.cancel.clone())?;
                 state.budget = state.budget.min(cap);
                 *history = RecoveryHistory3 {
                     constrained_fallback: true,
@@ -1140,6 +1136,7 @@ impl<'a> State<'a> {
         plc: &'a Plc3,
         max_steiner: Option<usize>,
         constrained: bool,
+        cancel: Option<Arc<AtomicBool>>,
     ) -> Result<Self, RecoveryError> {
         let n = plc.points.len();
         let first = u64::from(plc.first_index);
@@ -1229,7 +1226,7 @@ impl<'a> State<'a> {
             HashSet::default()
         };
         Ok(State {
-            cancel: None,
+            cancel,
             ct: ConstrainedTriangulation3::new(tri),
             plc,
             segs,
@@ -1621,10 +1618,10 @@ impl<'a> State<'a> {
 
     /// [`RecoveryError::Cancelled`] once the caller has set the cancel flag.
     fn stop_if_cancelled(&self) -> Result<(), RecoveryError> {
-        match &self.cancel {
-            Some(c) if c.load(Ordering::Relaxed) => Err(RecoveryError::Cancelled),
-            _ => Ok(()),
+        if is_set(&self.cancel) {
+            return Err(RecoveryError::Cancelled);
         }
+        Ok(())
     }
 
     /// Mid-point / shell insertion until every sub-segment is present.

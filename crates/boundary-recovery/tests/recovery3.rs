@@ -396,13 +396,19 @@ fn duplicate_points_are_merged_and_reported_in_the_history() {
     );
 }
 
-#[test]
-fn a_recovery_its_caller_stops_is_cancelled() {
+/// A sphere (icosphere, level 2) off-centre in a 4×4×4 box, and the volume between them.
+fn sphere_in_box() -> (Plc3, f64) {
     let mut plc = Plc3::default();
     let (p, t) = box_surface([-2.0; 3], [2.0; 3], 4, true);
     add_surface(&mut plc, &p, &t, 1);
     let (q, s) = icosphere([0.1, 0.05, -0.02], 0.7, 2);
     add_surface(&mut plc, &q, &s, 2);
+    (plc, 64.0 - enclosed_volume(&q, &s))
+}
+
+#[test]
+fn a_recovery_its_caller_stops_is_cancelled() {
+    let (plc, _) = sphere_in_box();
     let stop = Arc::new(AtomicBool::new(true));
     let stopped = BoundaryRecovery3::default()
         .cancel_on(stop.clone())
@@ -422,15 +428,10 @@ fn a_recovery_its_caller_stops_is_cancelled() {
 }
 
 #[test]
-fn sphere_in_box() {
-    let mut plc = Plc3::default();
-    let (p, t) = box_surface([-2.0; 3], [2.0; 3], 4, true);
-    add_surface(&mut plc, &p, &t, 1);
-    let (q, s) = icosphere([0.1, 0.05, -0.02], 0.7, 2);
-    let sphere = enclosed_volume(&q, &s);
-    add_surface(&mut plc, &q, &s, 2);
+fn sphere_in_a_box() {
+    let (plc, volume) = sphere_in_box();
     let mesh = BoundaryRecovery3::default().run(&plc).unwrap();
-    check(&plc, &mesh, 64.0 - sphere);
+    check(&plc, &mesh, volume);
     println!("{}", mesh.history);
 }
 
@@ -538,16 +539,11 @@ proptest! {
 #[test]
 fn a_priori_points_beside_every_face() {
     use delmesh_boundary_recovery::RecoveryMethod3;
-    let mut plc = Plc3::default();
-    let (p, t) = box_surface([-2.0; 3], [2.0; 3], 4, true);
-    add_surface(&mut plc, &p, &t, 1);
-    let (q, s) = icosphere([0.1, 0.05, -0.02], 0.7, 2);
-    let sphere = enclosed_volume(&q, &s);
-    add_surface(&mut plc, &q, &s, 2);
+    let (plc, volume) = sphere_in_box();
     let mesh = BoundaryRecovery3::new(RecoveryMethod3::APriori)
         .run(&plc)
         .unwrap();
-    check(&plc, &mesh, 64.0 - sphere);
+    check(&plc, &mesh, volume);
     let h = &mesh.history;
     // Two triangles of a box square share their circumcircle, so their points coincide.
     assert!(h.a_priori_points + h.a_priori_rejected <= plc.triangles.len());
@@ -778,13 +774,8 @@ fn constrained_recovery_of_boxes_spheres_and_holes() {
     let (_, cube) = both_recoveries(&plc, 1.0, &[]);
     assert!(!cube.history.constrained_fallback, "{}", cube.history);
 
-    let mut plc = Plc3::default();
-    let (p, t) = box_surface([-2.0; 3], [2.0; 3], 4, true);
-    add_surface(&mut plc, &p, &t, 1);
-    let (q, s) = icosphere([0.1, 0.05, -0.02], 0.7, 2);
-    let sphere = enclosed_volume(&q, &s);
-    add_surface(&mut plc, &q, &s, 2);
-    both_recoveries(&plc, 64.0 - sphere, &[]);
+    let (plc, volume) = sphere_in_box();
+    both_recoveries(&plc, volume, &[]);
 
     let (plc, field) = cube_with_cubic_hole_and_field();
     let (conforming, constrained) = both_recoveries(&plc, 26.0, &field);

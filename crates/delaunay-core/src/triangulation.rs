@@ -230,7 +230,7 @@ impl<D: Dim> Triangulation<D> {
         Self::with_progress(points, |_, _| {})
     }
 
-    /// As [`Triangulation::new`], calling `progress(inserted, total)` every thousand points or so.
+    /// As [`Triangulation::new`], calling `progress(inserted, total)` every 1,024 points.
     ///
     /// # Errors
     /// As [`Triangulation::new`].
@@ -245,7 +245,7 @@ impl<D: Dim> Triangulation<D> {
     }
 
     /// As [`Triangulation::with_progress`], but stops with [`TriangulationError::Cancelled`]
-    /// as soon as `progress` returns false (it is called every few thousand points): for a
+    /// as soon as `progress` returns false (it is called every 1,024 points): for a
     /// construction run beside another attempt that may make it unnecessary.
     ///
     /// # Errors
