@@ -110,6 +110,20 @@ pub enum RecoveryError {
     /// The points cannot be triangulated (too few, all collinear, bad range).
     #[error(transparent)]
     Triangulation(#[from] TriangulationError),
+    /// Splitting a segment reached the resolution of double precision at its coordinates: a
+    /// split point rounds onto a vertex, or the pieces are shorter than 2^-44 of the input's
+    /// extent (a domain a few thousand ulps across, far from the origin).
+    #[error(
+        "segment {segment} could not be recovered: after {splits} splits its pieces are too short \
+         for double precision at its coordinates (translate the input nearer the origin, or \
+         recover segments by flips, which adds no points)"
+    )]
+    BeyondPrecision {
+        /// The input segment.
+        segment: u64,
+        /// Splits made on it.
+        splits: usize,
+    },
     /// Recovery of a segment did not finish within the split budget (a bug in delmesh, or an
     /// input beyond double precision, such as segments closer than 1e-300).
     #[error("segment {segment} could not be recovered after {splits} splits")]

@@ -545,11 +545,7 @@ impl<'a> State<'a> {
                 let len = dist(pa, pb);
                 let seg = self.checked.segments[s.segment as usize];
                 if len < self.shortest {
-                    return Err(RecoveryError::NotRecovered {
-                        segment: u64::from(self.checked.origin[s.segment as usize])
-                            + u64::from(self.plc.first_index),
-                        splits: self.subs.iter().filter(|t| t.segment == s.segment).count(),
-                    });
+                    return Err(self.beyond_precision(s));
                 }
                 let split = match (self.is_input(s.a), self.is_input(s.b)) {
                     (true, false) => shell_point(pa, pb),
@@ -567,11 +563,7 @@ impl<'a> State<'a> {
                     self.spacing[self.tri.vertex_of_input(seg.b as usize).index()],
                 );
                 let Some(v) = self.add_vertex(split, Some(s.a), da + t * (db - da))? else {
-                    return Err(RecoveryError::NotRecovered {
-                        segment: u64::from(self.checked.origin[s.segment as usize])
-                            + u64::from(self.plc.first_index),
-                        splits: 0,
-                    });
+                    return Err(self.beyond_precision(s));
                 };
                 self.subs[i].b = v;
                 self.subs.push(Sub {
@@ -582,6 +574,15 @@ impl<'a> State<'a> {
                 pass.inserted += 1;
             }
             history.passes.push(pass);
+        }
+    }
+
+    /// The error for sub-segment `s`, which splitting cannot make shorter.
+    fn beyond_precision(&self, s: Sub) -> RecoveryError {
+        RecoveryError::BeyondPrecision {
+            segment: u64::from(self.checked.origin[s.segment as usize])
+                + u64::from(self.plc.first_index),
+            splits: self.subs.iter().filter(|t| t.segment == s.segment).count() - 1,
         }
     }
 

@@ -236,6 +236,39 @@ fn segments_an_ulp_apart_are_an_error_not_a_hang() {
 }
 
 #[test]
+fn a_polygon_700_ulps_across_is_beyond_precision_not_a_bug() {
+    // A heptagon some 700 ulps across just under 10^6 (found by fuzzing, minimised): a split
+    // point rounds onto a vertex. The error said "after 0 splits", like a bug; it now says
+    // why, and flips need no point.
+    let ulp = 2f64.powi(-33);
+    let at = |i: f64, j: f64| [1e6 + i * ulp, 1e6 + j * ulp];
+    let loops = vec![[
+        (-43.0, -5.0),
+        (-702.0, -380.0),
+        (-442.0, -264.0),
+        (-560.0, -335.0),
+        (-427.0, -260.0),
+        (-296.0, -513.0),
+        (-280.0, -495.0),
+    ]
+    .map(|(i, j)| at(i, j))
+    .to_vec()];
+    let plc = plc_of(&loops);
+    for method in [RecoveryMethod::Stitch, RecoveryMethod::APriori] {
+        let err = BoundaryRecovery::new(method).run(&plc).unwrap_err();
+        assert!(
+            matches!(err, RecoveryError::BeyondPrecision { .. }),
+            "{method:?}: {err}"
+        );
+        assert!(err.to_string().contains("double precision"), "{err}");
+    }
+    let mesh = BoundaryRecovery::new(RecoveryMethod::Constrained)
+        .run(&plc)
+        .unwrap();
+    mesh.cdt.validate().unwrap();
+}
+
+#[test]
 fn crossing_segments_are_named() {
     let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
     plc.first_index = 1;
