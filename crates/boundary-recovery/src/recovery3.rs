@@ -418,9 +418,16 @@ impl Default for BoundaryRecovery3 {
 struct Seg {
     a: u32,
     b: u32,
-    /// `(t, vertex)`: the vertex at `a + t (b - a)`; first `(0, a)`, last `(1, b)`.
-    pts: Vec<(f64, VertexId)>,
+    /// `(t, vertex, witness)`: the vertex at `a + t (b - a)`; first `(0, a, _)`, last
+    /// `(1, b, _)`. The witness of point `k` is a cell slot that held the sub-segment from it
+    /// to point `k + 1` when that was last found ([`NO_CELL`] if not yet): most survive a
+    /// change near the sub-segment, and one look at that slot then confirms it without a star
+    /// search.
+    pts: Vec<(f64, VertexId, CellId)>,
 }
+
+/// No cell: a sub-segment not yet found.
+const NO_CELL: CellId = CellId(u32::MAX);
 
 /// An input triangle, the vertices added inside it, and its current sub-faces.
 #[derive(Clone, Debug)]
@@ -983,37 +990,33 @@ fn min_dihedral(p: [[f64; 3]; 4]) -> f64 {
     }
 }
 
-/// The `(segment, position)` of each sub-segment `(a, b, segment, position)` of `edges`
-/// (sorted by `a`) that is not an edge of `tri`: one search of the star of each lower end `a`,
-/// stopped once every other end is found.
+/// The `(segment, position, cell)` of each sub-segment `(a, b, segment, position)` of `edges`
+/// (sorted by `a`): a cell of `tri` that holds it, or [`NO_CELL`] if it is missing. One search
+/// of the star of each lower end `a`, stopped once every other end is found.
 fn missing_in(
     tri: &Triangulation3,
     stars: &mut StarSearch,
     star: &mut Vec<CellId>,
     edges: &[(VertexId, VertexId, u32, u32)],
-) -> Vec<(u32, u32)> {
-    let mut missing = Vec::new();
-    let mut found: Vec<bool> = Vec::new();
+) -> Vec<(u32, u32, CellId)> {
+    let mut out = Vec::with_capacity(edges.len());
+    let mut found: Vec<CellId> = Vec::new();
     for group in edges.chunk_by(|x, y| x.0 == y.0) {
         found.clear();
-        found.resize(group.len(), false);
+        found.resize(group.len(), NO_CELL);
         let mut left = group.len();
-        stars.find(tri, group[0].0, star, |cell| {
+        stars.find_cell(tri, group[0].0, star, |c, cell| {
             for (e, seen) in group.iter().zip(found.iter_mut()) {
-                if !*seen && cell.contains(&e.1) {
-                    *seen = true;
+                if *seen == NO_CELL && cell.contains(&e.1) {
+                    *seen = c;
                     left -= 1;
                 }
             }
             left == 0
         });
-        for (e, &seen) in group.iter().zip(&found) {
-            if !seen {
-                missing.push((e.2, e.3));
-            }
-        }
+        out.extend(group.iter().zip(&found).map(|(e, &c)| (e.2, e.3, c)));
     }
-    missing
+    out
 }
 
 /// Whether the four vertices are a cell of `tri` (`star`: a buffer for the search).
@@ -1168,7 +1171,7 @@ impl<'a> State<'a> {
                     segs.push(Seg {
                         a: p,
                         b: q,
-                        pts: vec![(0.0, vp), (1.0, vq)],
+                        pts: vec![(0.0, vp, NO_CELL), (1.0, vq, NO_CELL)],
                     });
                     segs.len() as u32 - 1
                 });
@@ -1668,12 +1671,23 @@ impl<'a> State<'a> {
         self.edges_checked_at = self.changes;
         let born = self.edges_checked_vertices;
         self.edges_checked_vertices = self.ct.triangulation().num_vertices();
+        let tri = self.ct.triangulation();
+        // Still in the cell slot that last held it.
+        let held = |c: CellId, a: VertexId, b: VertexId| {
+            c.index() < tri.num_cell_slots() && tri.is_live(c) && {
+                let v = tri.cell(c);
+                v.contains(&a) && v.contains(&b)
+            }
+        };
         let mut by_vertex: Vec<(VertexId, VertexId, u32, u32)> = Vec::new();
         for (s, seg) in self.segs.iter().enumerate() {
             for (k, w) in seg.pts.windows(2).enumerate() {
                 let (a, b) = (w[0].1, w[1].1);
                 let new = a.index() >= born || b.index() >= born;
                 if !new && (self.touched[a.index()] <= since || self.touched[b.index()] <= since) {
+                    continue;
+                }
+                if held(w[0].2, a, b) {
                     continue;
                 }
                 let (lo, hi) = if a < b { (a, b) } else { (b, a) };
@@ -1687,8 +1701,7 @@ impl<'a> State<'a> {
             cut += 1;
         }
         let (first, second) = by_vertex.split_at(cut);
-        let tri = self.ct.triangulation();
-        let (mut missing, more) = if by_vertex.len() < 4096 {
+        let (mut found, more) = if by_vertex.len() < 4096 {
             (
                 missing_in(tri, &mut self.stars, &mut self.star, &by_vertex),
                 Vec::new(),
@@ -1699,7 +1712,15 @@ impl<'a> State<'a> {
                 || missing_in(tri, &mut self.stars2, &mut self.star2, second),
             )
         };
-        missing.extend(more);
+        found.extend(more);
+        let mut missing = Vec::new();
+        for (s, k, c) in found {
+            if c == NO_CELL {
+                missing.push((s, k));
+            } else {
+                self.segs[s as usize].pts[k as usize].2 = c;
+            }
+        }
         missing.sort_unstable();
         missing
     }
@@ -1711,7 +1732,7 @@ impl<'a> State<'a> {
         let seg = &self.segs[s];
         let (pa, pb) = (self.point(seg.a), self.point(seg.b));
         let last = seg.pts.len() - 1;
-        let ((t0, u), (t1, w)) = (seg.pts[k], seg.pts[k + 1]);
+        let ((t0, u, _), (t1, w, _)) = (seg.pts[k], seg.pts[k + 1]);
         let (first, end) = (seg.pts[0].1, seg.pts[last].1);
         let length = dist(pa, pb);
         let sub_length = (t1 - t0) * length;
@@ -1744,7 +1765,8 @@ impl<'a> State<'a> {
             self.locked.insert(edge_key(u, v));
             self.locked.insert(edge_key(v, w));
         }
-        self.segs[s].pts.insert(k + 1, (t, v));
+        self.segs[s].pts[k].2 = NO_CELL;
+        self.segs[s].pts.insert(k + 1, (t, v, NO_CELL));
         for &f in &self.seg_facets[s] {
             self.facs[f as usize].stale = true;
         }
@@ -1815,7 +1837,7 @@ impl<'a> State<'a> {
             let pts = &self.segs[s as usize].pts;
             let n = pts.len();
             for j in 0..n - 1 {
-                let (t, v) = if reversed { pts[n - 1 - j] } else { pts[j] };
+                let (t, v, _) = if reversed { pts[n - 1 - j] } else { pts[j] };
                 let t = if reversed { 1.0 - t } else { t };
                 let mut b = [0.0; 3];
                 b[k] = 1.0 - t;

@@ -34,6 +34,17 @@ impl StarSearch {
         out: &mut Vec<CellId>,
         mut wanted: impl FnMut(&[VertexId]) -> bool,
     ) -> Option<CellId> {
+        self.find_cell(tri, v, out, |_, cell| wanted(cell))
+    }
+
+    /// [`StarSearch::find`] with each cell's id given to `wanted` too.
+    pub fn find_cell<D: Dim>(
+        &mut self,
+        tri: &Triangulation<D>,
+        v: VertexId,
+        out: &mut Vec<CellId>,
+        mut wanted: impl FnMut(CellId, &[VertexId]) -> bool,
+    ) -> Option<CellId> {
         out.clear();
         if v.is_ghost() || v.index() >= tri.num_vertices() {
             return None;
@@ -55,7 +66,7 @@ impl StarSearch {
             let c = out[i];
             i += 1;
             let cell = &tri.simplices[c.index()];
-            if wanted(&cell.v[..D::C]) {
+            if wanted(c, &cell.v[..D::C]) {
                 return Some(c);
             }
             for k in 0..D::C {
