@@ -1797,7 +1797,13 @@ impl<'a> State<'a> {
                     }
                     let px = self.ct.triangulation().vertex(x);
                     let (xu, xw) = (sub(pu, px), sub(pw, px));
-                    let cos = dot(xu, xw) / (dot(xu, xu) * dot(xw, xw)).sqrt();
+                    // (The cosine has the sign of the dot product: most vertices do not
+                    // encroach, and skip the square root and the division.)
+                    let d = dot(xu, xw);
+                    if d >= 0.0 || d.is_nan() {
+                        continue;
+                    }
+                    let cos = d / (dot(xu, xu) * dot(xw, xw)).sqrt();
                     if cos < 0.0 && best.is_none_or(|b| cos < b.0) {
                         best = Some((cos, dot(sub(px, pu), uw) / len2));
                     }
