@@ -578,9 +578,41 @@ impl BoundaryRecovery3 {
     /// A surface that fails the checks (naming the facets), a surface that could not be
     /// recovered within the bound, or a domain with no element inside.
     pub fn run(&self, plc: &Plc3) -> Result<Mesh3, RecoveryError> {
+        self.run_from(plc, None)
+    }
+
+    /// [`BoundaryRecovery3::run`] starting from `tri`, the Delaunay tetrahedralisation of
+    /// `plc`'s points (input point `i` at point `i` of `plc`), instead of building it: for
+    /// points that are already triangulated (the Delaunay restoration after smoothing gets
+    /// their tetrahedralisation from the mesh by flips, several times faster). With field
+    /// points, the a-priori method, or a `tri` whose input points are not `plc`'s, `tri` is
+    /// set aside and the points are triangulated as [`BoundaryRecovery3::run`] does.
+    ///
+    /// # Errors
+    /// As [`BoundaryRecovery3::run`].
+    pub fn run_on(&self, plc: &Plc3, tri: Triangulation3) -> Result<Mesh3, RecoveryError> {
+        self.run_from(plc, Some(tri))
+    }
+
+    /// [`BoundaryRecovery3::run`], from `given` if it fits (see [`BoundaryRecovery3::run_on`]).
+    fn run_from(&self, plc: &Plc3, given: Option<Triangulation3>) -> Result<Mesh3, RecoveryError> {
+        if is_set(&self.cancel) {
+            return Err(RecoveryError::Cancelled);
+        }
+        let given = given.filter(|t| {
+            self.extra_points.is_empty()
+                && self.method != RecoveryMethod3::APriori
+                && t.num_input_points() == plc.points.len()
+                && plc
+                    .points
+                    .iter()
+                    .enumerate()
+                    .all(|(i, &p)| t.vertex(t.vertex_of_input(i)) == p)
+        });
         // With no field points and no a-priori points, the triangulation is of the surface
         // points alone: it is built on the second thread while the surface is checked.
-        let alone = !self.trusted
+        let alone = given.is_none()
+            && !self.trusted
             && self.extra_points.is_empty()
             && self.method != RecoveryMethod3::APriori
             && plc.points.iter().flatten().all(|x| x.is_finite());
@@ -655,10 +687,14 @@ impl BoundaryRecovery3 {
             a_priori_rejected = rejected;
             points.extend(placed);
         }
-        let tri = match early {
-            Some(t) => t?,
-            None => self.triangulate(&points)?,
+        let tri = match (early, given) {
+            (Some(t), _) => t?,
+            (None, Some(t)) => t,
+            (None, None) => self.triangulate(&points)?,
         };
+        if is_set(&self.cancel) {
+            return Err(RecoveryError::Cancelled);
+        }
         // Planar patches re-triangulated by flips before recovery (see `planar`).
         let patches = if self.merge_coplanar {
             Patches::Coplanar

@@ -6,7 +6,7 @@ use delmesh_boundary_recovery::{
     check_surface, tet_volume, BoundaryRecovery3, Mesh3, Plc3, RecoveryError, RecoveryMethod3,
     RecoveryStep, SurfaceTriangle,
 };
-use delmesh_delaunay_core::{FlipIn, VertexId};
+use delmesh_delaunay_core::{FlipIn, Triangulation3, VertexId};
 use delmesh_predicates::{orient3d, Sign};
 use proptest::prelude::*;
 use rand::{rngs::StdRng, Rng, SeedableRng};
@@ -425,6 +425,32 @@ fn a_recovery_its_caller_stops_is_cancelled() {
         .unwrap();
     let plain = BoundaryRecovery3::default().run(&plc).unwrap();
     assert_eq!(mesh.to_arrays().tets, plain.to_arrays().tets);
+}
+
+#[test]
+fn a_recovery_starts_from_a_given_tetrahedralisation_of_its_points_only() {
+    let (plc, _) = sphere_in_box();
+    let plain = BoundaryRecovery3::default()
+        .trusted_surface()
+        .run(&plc)
+        .unwrap();
+    let given = Triangulation3::new(&plc.points).unwrap();
+    let from = BoundaryRecovery3::default()
+        .trusted_surface()
+        .run_on(&plc, given)
+        .unwrap();
+    assert_eq!(from.to_arrays().tets, plain.to_arrays().tets);
+    // Of other points (one moved, or one fewer): set aside, the points are triangulated.
+    let mut moved = plc.points.clone();
+    moved[3][0] += 1e-3;
+    for other in [moved, plc.points[1..].to_vec()] {
+        let given = Triangulation3::new(&other).unwrap();
+        let from = BoundaryRecovery3::default()
+            .trusted_surface()
+            .run_on(&plc, given)
+            .unwrap();
+        assert_eq!(from.to_arrays().tets, plain.to_arrays().tets);
+    }
 }
 
 #[test]

@@ -159,6 +159,14 @@ impl ConstrainedTriangulation3 {
     /// The protected faces, each once, as vertex triples (counter-clockwise seen from the cell
     /// that reports it).
     pub fn protected_faces(&self) -> Vec<[VertexId; 3]> {
+        self.protected_facets()
+            .into_iter()
+            .map(|f| face_vertices(self.tri.cell(f.cell()), f.facet()))
+            .collect()
+    }
+
+    /// The protected faces, each once, seen from one of their two cells.
+    pub fn protected_facets(&self) -> Vec<FacetRef> {
         let mut out = Vec::new();
         for c in self.tri.all_cells() {
             let m = self.protected[c.index()];
@@ -171,7 +179,7 @@ impl ConstrainedTriangulation3 {
                 }
                 let twin = self.tri.simplices[c.index()].n[i];
                 if (c.0, i) < (twin.cell().0, twin.facet()) {
-                    out.push(face_vertices(self.tri.cell(c), i));
+                    out.push(FacetRef::new(c, i));
                 }
             }
         }

@@ -25,7 +25,9 @@ use delmesh_boundary_recovery::{
     check_surface, BoundaryRecovery3, Mesh3, MeshArrays3, Plc3, PolygonFacet, RecoveryError,
     RecoveryHistory3, RecoveryMethod3, RecoveryStep, RegionSeed3, SurfaceTriangle, OUTSIDE,
 };
-use delmesh_delaunay_core::{FacetRef, Flips3, Improvement3, VertexId};
+use delmesh_delaunay_core::{
+    ConstrainedTriangulation3, FacetRef, Flips3, Improvement3, Triangulation3, VertexId,
+};
 use delmesh_io::{SurfaceFile, TetMeshOut};
 use delmesh_point_gen::{
     Adaptation, BackgroundMesh3, GenerationReport3, PointGenError, PointGeneration3,
@@ -717,7 +719,7 @@ pub fn restore_after_smoothing(
     // Smoothing keeps every element positive (exactly), so the move is accepted; if it were
     // not, the flips could not start and the mesh is rebuilt.
     if mesh.ct.move_vertices(&moves).is_err() {
-        let again = restore_delaunay_until(arrays, plc, max_steiner_points, None);
+        let again = restore_delaunay_until(arrays, plc, max_steiner_points, None, None);
         return retriangulated(mesh, arrays, again, None);
     }
     // Every cell is in scope: a split boundary edge changes cells outside the domain too.
@@ -733,6 +735,16 @@ pub fn restore_after_smoothing(
     // The flips stopped short. Edge splits may finish in the mesh, or not: triangulating
     // again starts at once beside them (it is what takes long) and is stopped if they do.
     let stop = Arc::new(AtomicBool::new(false));
+    // The mesh's tetrahedralisation as the flips left it, for the re-triangulation to start
+    // from (the splits change the mesh meanwhile), with the only faces that may fail the
+    // insphere test: those the flips left, and the protected ones.
+    let seeds = flips
+        .left
+        .iter()
+        .copied()
+        .chain(mesh.ct.protected_facets())
+        .collect();
+    let start = (mesh.ct.triangulation().clone(), seeds);
     let (in_place, again) = rayon::join(
         || {
             let done = split_in_place(mesh, flips, &found);
@@ -741,7 +753,15 @@ pub fn restore_after_smoothing(
             }
             done
         },
-        || restore_delaunay_until(arrays, plc, max_steiner_points, Some(stop.clone())),
+        || {
+            restore_delaunay_until(
+                arrays,
+                plc,
+                max_steiner_points,
+                Some(stop.clone()),
+                Some(start),
+            )
+        },
     );
     match in_place {
         Ok(done) => Ok(done),
@@ -927,16 +947,19 @@ pub fn restore_delaunay(
     plc: &Plc3,
     max_steiner_points: Option<usize>,
 ) -> Result<Mesh3, Error> {
-    restore_delaunay_until(arrays, plc, max_steiner_points, None)
+    restore_delaunay_until(arrays, plc, max_steiner_points, None, None)
 }
 
 /// [`restore_delaunay`], stopped with [`RecoveryError::Cancelled`] (as
-/// [`Error::Restoration`]) soon after `stop` is set.
+/// [`Error::Restoration`]) soon after `stop` is set; starting from `start`, a
+/// tetrahedralisation of the points of `arrays` (the mesh's) with the faces that may fail the
+/// insphere test, when flips make it Delaunay.
 fn restore_delaunay_until(
     arrays: &MeshArrays3,
     plc: &Plc3,
     max_steiner_points: Option<usize>,
     stop: Option<Arc<AtomicBool>>,
+    start: Option<(Triangulation3, Vec<FacetRef>)>,
 ) -> Result<Mesh3, Error> {
     if stop.as_ref().is_some_and(|s| s.load(Ordering::Relaxed)) {
         return Err(Error::Restoration(RecoveryError::Cancelled));
@@ -998,10 +1021,46 @@ fn restore_delaunay_until(
     if let Some(n) = max_steiner_points {
         recovery = recovery.max_steiner_points(n);
     }
+    // (Stopped here too: building the surface took a while, and the flips and what follows
+    // them up to recovery's own checks take longer.)
+    if stop.as_ref().is_some_and(|s| s.load(Ordering::Relaxed)) {
+        return Err(Error::Restoration(RecoveryError::Cancelled));
+    }
+    let start = start.and_then(|(t, seeds)| delaunay_by_flips(t, seeds, arrays));
     if let Some(stop) = stop {
         recovery = recovery.cancel_on(stop);
     }
-    recovery.run(&surface).map_err(Error::Restoration)
+    match start {
+        Some(tri) => recovery.run_on(&surface, tri),
+        None => recovery.run(&surface),
+    }
+    .map_err(Error::Restoration)
+}
+
+/// `tri`, a tetrahedralisation of the points of `arrays` (the mesh's, as it was when they
+/// were taken) whose faces pass the insphere test but for some of `seeds`, made Delaunay by
+/// flips with no face protected: the tetrahedralisation that triangulating the points again
+/// would build, in a fraction of the time (armadillo's 84,686 points: 219 ms to triangulate).
+/// `None` if its input points are not those of `arrays` in order, or if the flips stop short.
+fn delaunay_by_flips(
+    tri: Triangulation3,
+    seeds: Vec<FacetRef>,
+    arrays: &MeshArrays3,
+) -> Option<Triangulation3> {
+    let same = tri.num_input_points() == arrays.vertex.len()
+        && arrays
+            .vertex
+            .iter()
+            .enumerate()
+            .all(|(k, &v)| tri.input_index(v) == k);
+    if !same {
+        return None;
+    }
+    let mut ct = ConstrainedTriangulation3::new(tri);
+    ct.make_delaunay_from(seeds, |_| true)
+        .left
+        .is_empty()
+        .then(|| ct.into_triangulation())
 }
 
 impl MeshRun3 {

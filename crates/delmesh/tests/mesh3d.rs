@@ -1349,6 +1349,23 @@ fn points_keep_their_spacing_when_the_restoration_triangulates_again() {
     assert!(retriangulated > 0);
 }
 
+/// Where the in-place restoration stops short, the mesh's own tetrahedralisation is made
+/// Delaunay by flips (nothing protected) and recovery starts from it instead of triangulating
+/// the points again: the mesh passes every check, Delaunay with its faces protected included.
+#[test]
+fn a_restoration_that_triangulates_again_starts_from_the_flipped_mesh() {
+    let mut retriangulated = 0;
+    for seed in 1..=4 {
+        let plc = spiky_star(seed, 80, 0.4);
+        let run = mesh_plc3(&plc, &MeshOptions3::default()).unwrap();
+        if matches!(run.restoration, Some(Restoration3::Retriangulated { .. })) {
+            retriangulated += 1;
+            check(&plc, &run, 1, true);
+        }
+    }
+    assert!(retriangulated > 0);
+}
+
 /// The surface split for a volume limit keeps the surface closed where a limited region meets
 /// an unlimited one (the unlimited side's triangles on a split edge were kept whole: "the
 /// surface is not closed"), and when the surface was remeshed to a spacing before (its
