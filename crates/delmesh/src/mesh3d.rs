@@ -700,7 +700,10 @@ pub const UNDO_ROUNDS: usize = 4;
 /// and triangulating again took 1.1 s of its 3 s). Only if faces are still left is `mesh`
 /// replaced by [`restore_delaunay`]'s. That one starts beside the splits (on another thread)
 /// as soon as the first flips leave a face, and is stopped when the splits finish: where they
-/// do not, its time is not added to theirs.
+/// do not, its time is not added to theirs. It does not triangulate the points again: it
+/// starts from a copy of the mesh's tetrahedralisation as the first flips left it, made
+/// Delaunay by flips with no face protected (the same tetrahedralisation, several times
+/// faster: armadillo's 84,686 points in 12 ms of flips against 219 ms of construction).
 ///
 /// # Errors
 /// As [`restore_delaunay`], when it is needed.
@@ -732,8 +735,9 @@ pub fn restore_after_smoothing(
             undone: 0,
         });
     }
-    // The flips stopped short. Edge splits may finish in the mesh, or not: triangulating
-    // again starts at once beside them (it is what takes long) and is stopped if they do.
+    // The flips stopped short. Edge splits may finish in the mesh, or not: recovering the
+    // surface again starts at once beside them (it is what takes long) and is stopped if they
+    // do.
     let stop = Arc::new(AtomicBool::new(false));
     // The mesh's tetrahedralisation as the flips left it, for the re-triangulation to start
     // from (the splits change the mesh meanwhile), with the only faces that may fail the
