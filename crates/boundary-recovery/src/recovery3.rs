@@ -702,17 +702,21 @@ impl BoundaryRecovery3 {
             Patches::OneFacet
         };
         let planar = |patches| flip_planar_diagonals(&plc.points, &plc.triangles, &tri, patches);
-        let flipped = planar(patches);
-        let planar_flips = flipped.as_ref().map_or(0, |f| f.1);
         // The surface with coplanar facets merged, and those flat to rounding, when that
         // differs from the surface as given: what recovery falls back on if the facets as
-        // given cost too many points.
-        let merged = if self.coplanar_fallback {
-            planar(Patches::NearlyCoplanar(Flatness::Double))
-                .filter(|(m, _)| m != flipped.as_ref().map_or(&plc.triangles, |(t, _)| t))
-        } else {
-            None
-        };
+        // given cost too many points. Both flip passes only read the triangulation: side by
+        // side.
+        let (flipped, merged) = rayon::join(
+            || planar(patches),
+            || {
+                self.coplanar_fallback
+                    .then(|| planar(Patches::NearlyCoplanar(Flatness::Double)))
+                    .flatten()
+            },
+        );
+        let planar_flips = flipped.as_ref().map_or(0, |f| f.1);
+        let merged =
+            merged.filter(|(m, _)| m != flipped.as_ref().map_or(&plc.triangles, |(t, _)| t));
         let with_triangles = |triangles| Plc3 {
             triangles,
             ..plc.clone()

@@ -376,7 +376,7 @@ fn mesh(args: &MeshArgs) -> Result<()> {
     } else if is_poly {
         match delmesh::io::read_poly_any(&args.input)? {
             AnyPoly::TetGen(surface) => {
-                return mesh3(args, mesh3d::plc3_from_surface(&surface, &args.input)?)
+                return mesh3(args, mesh3d::plc3_from_surface(surface, &args.input)?)
             }
             AnyPoly::Triangle(poly) => mesh2d::plc_from_poly(&poly),
         }

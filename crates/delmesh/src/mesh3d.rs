@@ -1231,35 +1231,44 @@ fn extension(path: &Path) -> String {
 /// polygonal facet that cannot be triangulated (named with its line).
 pub fn read_plc3(path: &Path) -> Result<Plc3, Error> {
     let surface = delmesh_io::read_surface(path)?;
-    plc3_from_surface(&surface, path)
+    plc3_from_surface(surface, path)
 }
 
 /// The [`Plc3`] of a parsed surface file: triangles keep their facet's marker and number;
-/// polygonal facets (with holes) are triangulated in their plane.
+/// polygonal facets (with holes) are triangulated in their plane. The file's arrays move into
+/// the result (no copy).
 ///
 /// # Errors
 /// A polygonal facet that is not planar or cannot be triangulated (named in the file's
 /// numbering).
-pub fn plc3_from_surface(surface: &SurfaceFile, path: &Path) -> Result<Plc3, Error> {
-    let facets: Vec<PolygonFacet> = surface
-        .facets
-        .iter()
+pub fn plc3_from_surface(surface: SurfaceFile, path: &Path) -> Result<Plc3, Error> {
+    let SurfaceFile {
+        points,
+        point_markers,
+        facets,
+        holes,
+        regions,
+        marker_names,
+        first_index,
+        ..
+    } = surface;
+    let facets: Vec<PolygonFacet> = facets
+        .into_iter()
         .map(|f| PolygonFacet {
-            polygons: f.polygons.clone(),
-            holes: f.holes.clone(),
+            polygons: f.polygons,
+            holes: f.holes,
             marker: f.marker,
         })
         .collect();
-    let mut plc = Plc3::from_polygon_facets(surface.points.clone(), &facets, surface.first_index)
-        .map_err(|e| Error::Input {
-        file: path.to_path_buf(),
-        message: e.to_string(),
-    })?;
-    plc.point_markers = surface.point_markers.clone().unwrap_or_default();
-    plc.marker_names = surface.marker_names.clone();
-    plc.holes = surface.holes.clone();
-    plc.regions = surface
-        .regions
+    let mut plc =
+        Plc3::from_polygon_facets(points, &facets, first_index).map_err(|e| Error::Input {
+            file: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+    plc.point_markers = point_markers.unwrap_or_default();
+    plc.marker_names = marker_names;
+    plc.holes = holes;
+    plc.regions = regions
         .iter()
         .map(|r| RegionSeed3 {
             point: r.point,

@@ -100,7 +100,7 @@ pub fn parse_off(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
 
     let mut points = Vec::with_capacity(nv.min(text.len() / 6));
     for k in 0..nv {
-        let (line, toks) = cur.next(&format!("{nv} vertices (found {k})"))?;
+        let (line, toks) = cur.next(format_args!("{nv} vertices (found {k})"))?;
         if toks.len() < 3 {
             return Err(err(
                 line,
@@ -114,7 +114,7 @@ pub fn parse_off(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
     }
     let mut facets = Vec::with_capacity(nf.min(text.len() / 8));
     for k in 0..nf {
-        let (line, toks) = cur.next(&format!("{nf} faces (found {k})"))?;
+        let (line, toks) = cur.next(format_args!("{nf} faces (found {k})"))?;
         let n = parse_count(toks[0], "number of face vertices", file, line)?;
         check_polygon_size(n, "face", file, line)?;
         if n >= toks.len() {

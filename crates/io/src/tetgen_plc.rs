@@ -185,7 +185,7 @@ fn parse_plc(
     }
     let mut facets = Vec::with_capacity(n_facets.min(text.len() / 8));
     for k in 0..n_facets {
-        let (line, toks) = cur.next(&format!("{n_facets} facets (found {k})"))?;
+        let (line, toks) = cur.next(format_args!("{n_facets} facets (found {k})"))?;
         let facet = match kind {
             Kind::Smesh => {
                 let poly = polygon(&toks, line, "facet")?;
@@ -240,7 +240,7 @@ fn parse_plc(
                 };
                 let mut polygons = Vec::with_capacity(n_poly.min(text.len() / 4));
                 for p in 0..n_poly {
-                    let (pl, pt) = cur.next(&format!(
+                    let (pl, pt) = cur.next(format_args!(
                         "polygon {} of {n_poly} of the facet on line {line}",
                         p + 1
                     ))?;
@@ -260,7 +260,7 @@ fn parse_plc(
                 }
                 let mut holes = Vec::with_capacity(n_holes.min(text.len() / 8));
                 for h in 0..n_holes {
-                    let (hl, ht) = cur.next(&format!(
+                    let (hl, ht) = cur.next(format_args!(
                         "hole {} of {n_holes} of the facet on line {line}",
                         h + 1
                     ))?;
@@ -285,7 +285,7 @@ fn parse_plc(
     let n_holes = parse_count(hh[0], "number of holes", file, hline)?;
     let mut holes = Vec::with_capacity(n_holes.min(text.len() / 8));
     for k in 0..n_holes {
-        let (line, toks) = cur.next(&format!("{n_holes} holes (found {k})"))?;
+        let (line, toks) = cur.next(format_args!("{n_holes} holes (found {k})"))?;
         holes.push(seed_point(&toks, line, file, "hole")?);
     }
 
@@ -297,7 +297,7 @@ fn parse_plc(
         }
         let n_regions = parse_count(rh[0], "number of regions", file, rline)?;
         for k in 0..n_regions {
-            let (line, toks) = cur.next(&format!("{n_regions} regions (found {k})"))?;
+            let (line, toks) = cur.next(format_args!("{n_regions} regions (found {k})"))?;
             if !(5..=6).contains(&toks.len()) {
                 return Err(err(
                     line,

@@ -72,8 +72,12 @@ impl<'t> LineCursor<'t> {
         }
     }
 
-    /// The next data line; at the end of the file, an error saying `what` was expected.
-    pub(crate) fn next(&mut self, what: &str) -> Result<(usize, Vec<&'t str>), IoError> {
+    /// The next data line; at the end of the file, an error saying `what` was expected
+    /// (rendered only then: callers pass `format_args!`, which allocates nothing per line).
+    pub(crate) fn next(
+        &mut self,
+        what: impl std::fmt::Display,
+    ) -> Result<(usize, Vec<&'t str>), IoError> {
         self.lines.next().ok_or_else(|| self.eof(what))
     }
 
@@ -83,7 +87,7 @@ impl<'t> LineCursor<'t> {
     }
 
     /// The "unexpected end of file" error, on the file's last line.
-    pub(crate) fn eof(&self, what: &str) -> IoError {
+    pub(crate) fn eof(&self, what: impl std::fmt::Display) -> IoError {
         IoError::parse(
             self.file,
             self.last_line,

@@ -66,6 +66,23 @@ fn triangulate_facet(
     let fname = u64::from(f) + base;
     let name = |v: u32| u64::from(v) + base;
     let degenerate = |why| SurfaceError::FacetDegenerate { facet: fname, why };
+    // A lone triangle that is not degenerate is its own triangulation (most facets of most
+    // inputs: no map, no projection). Anything else, errors included, takes the general path.
+    if let ([p], true) = (&facet.polygons[..], facet.holes.is_empty()) {
+        if let &[u, v, w] = &p[..] {
+            let n = scaled.len();
+            if [u, v, w].iter().all(|&i| (i as usize) < n)
+                && !collinear(scaled[u as usize], scaled[v as usize], scaled[w as usize])
+            {
+                out.push(SurfaceTriangle {
+                    v: [u, v, w],
+                    marker: facet.marker,
+                    facet: f,
+                });
+                return Ok(());
+            }
+        }
+    }
     // The facet's points, each once, in order of appearance.
     let mut local: Vec<u32> = Vec::new();
     let mut local_of: HashMap<u32, u32> = HashMap::default();
