@@ -3,9 +3,10 @@
 //! A mesh run can take hours; a crash, a full disk or a bad input in the middle of writing must
 //! never leave a truncated file under the final name, nor destroy the previous result. So the data
 //! is written to a temporary file in the destination's directory (same file system, so the rename
-//! is atomic), flushed and `fsync`ed, and only then renamed over the destination. On any error,
-//! or a panic in the writing closure, the temporary file is removed and the destination is left
-//! exactly as it was.
+//! is atomic), flushed and `fsync`ed, and only then renamed over the destination. The directory
+//! itself is not synced: a power cut right after may leave the previous file under the name,
+//! never a partial one. On any error, or a panic in the writing closure, the temporary file is
+//! removed and the destination is left exactly as it was.
 
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Write};
@@ -75,11 +76,9 @@ where
     drop(file);
     std::fs::rename(&guard.path, path).map_err(io_err)?;
     guard.armed = false;
-
-    // Make the rename itself durable. Best effort: not every platform can open a directory.
-    if let Ok(d) = File::open(dir) {
-        let _ = d.sync_all();
-    }
+    // The directory is not synced: after a power cut the name may still show the previous
+    // file, complete, but never a partial new one (the data was synced before the rename).
+    // Syncing it cost 0.15 ms per file, a twentieth of a small run.
     Ok(())
 }
 
