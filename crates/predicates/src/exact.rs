@@ -74,6 +74,12 @@ pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
 #[cold]
 #[inline(never)]
 fn orient3d_exact(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
+    // Four points with one coordinate equal lie in a plane normal to that axis (the faces of
+    // boxes, far fields and symmetry planes, where many exact calls land): zero, without the
+    // exact arithmetic.
+    if (0..3).any(|k| a[k] == d[k] && b[k] == d[k] && c[k] == d[k]) {
+        return Sign::Zero;
+    }
     if let Some(s) = crate::integer::orient3d(&[
         a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2],
     ]) {
@@ -378,5 +384,29 @@ mod tests {
         assert_eq!(orient2d(a, b, up), Sign::Positive);
         let down = [24.0, f64::from_bits(24.0f64.to_bits() - 1)];
         assert_eq!(orient2d(a, b, down), Sign::Negative);
+    }
+
+    #[test]
+    fn points_sharing_a_coordinate_are_coplanar_and_one_ulp_off_is_not() {
+        // In the plane y = 0.1 (not exact in binary, the same double for all four points), in
+        // any order, and with the fourth point one ulp above or below it.
+        for axis in 0..3 {
+            let put = |u: f64, w: f64, at: f64| {
+                let mut p = [u, w, u + w];
+                p[axis] = at;
+                p
+            };
+            let (a, b, c) = (put(0.3, 7.1, 0.1), put(-2.9, 1.7, 0.1), put(5.5, -0.4, 0.1));
+            for d in [put(1.3, 2.2, 0.1), put(1e9, -3e-9, 0.1)] {
+                assert_eq!(orient3d(a, b, c, d), Sign::Zero);
+                assert_eq!(orient3d(d, c, b, a), Sign::Zero);
+            }
+            let above = put(1.3, 2.2, f64::from_bits(0.1f64.to_bits() + 1));
+            let below = put(1.3, 2.2, f64::from_bits(0.1f64.to_bits() - 1));
+            let (s_above, s_below) = (orient3d(a, b, c, above), orient3d(a, b, c, below));
+            assert_ne!(s_above, Sign::Zero);
+            assert_eq!(s_below, s_above.reversed());
+            assert_eq!(s_above, Sign::of(orient3d_value(a, b, c, above)));
+        }
     }
 }
