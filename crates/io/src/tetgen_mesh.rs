@@ -30,28 +30,36 @@ pub fn write_tetgen_mesh(
     let [node, ele, face] =
         ["node", "ele", "face"].map(|e| sibling(path, &["node", "ele", "face"], e));
     let base = u64::from(first_index);
-    // The three files are independent: written on two threads (the .ele, the biggest, alone).
-    let (ele_done, rest) = std::thread::scope(|scope| {
-        let ele_thread = scope.spawn(|| {
-            write_atomic(&ele, |w| {
-                ele_body(w, mesh, base).map_err(|e| IoError::io(&ele, e))
-            })
-        });
-        let rest = write_atomic(&node, |w| {
+    // The three files are independent: written side by side, so that their syncs to disk
+    // overlap (on a small mesh they take longer than the writing).
+    let write_node = || {
+        write_atomic(&node, |w| {
             node_body(w, mesh, base).map_err(|e| IoError::io(&node, e))
         })
-        .and_then(|()| {
-            write_atomic(&face, |w| {
-                face_body(w, mesh, base).map_err(|e| IoError::io(&face, e))
-            })
-        });
-        (ele_thread.join(), rest)
+    };
+    let write_face = || {
+        write_atomic(&face, |w| {
+            face_body(w, mesh, base).map_err(|e| IoError::io(&face, e))
+        })
+    };
+    let write_ele = || {
+        write_atomic(&ele, |w| {
+            ele_body(w, mesh, base).map_err(|e| IoError::io(&ele, e))
+        })
+    };
+    let (node_done, face_done, ele_done) = std::thread::scope(|scope| {
+        let node_thread = scope.spawn(write_node);
+        let face_thread = scope.spawn(write_face);
+        let ele_done = write_ele();
+        (node_thread.join(), face_thread.join(), ele_done)
     });
-    rest?;
-    match ele_done {
-        Ok(done) => done?,
-        Err(panic) => std::panic::resume_unwind(panic),
+    for done in [node_done, face_done] {
+        match done {
+            Ok(done) => done?,
+            Err(panic) => std::panic::resume_unwind(panic),
+        }
     }
+    ele_done?;
     Ok(vec![node, ele, face])
 }
 
