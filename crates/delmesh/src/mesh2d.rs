@@ -319,12 +319,13 @@ pub fn plc_from_poly(poly: &PolyFile) -> Plc2 {
 }
 
 /// The output formats of [`MeshRun2::write`], by extension.
-pub const MESH_OUTPUTS: &str = ".vtu, .ele, .svg";
+pub const MESH_OUTPUTS: &str = ".vtu, .ele, .su2, .svg";
 
 impl MeshRun2 {
     /// Writes the mesh to `out`, the format chosen by its extension: `.vtu` (cell data `region`,
     /// point data `marker` and `spacing`), `.ele` (the Triangle family `X.node`, `X.ele`,
-    /// `X.edge` with boundary markers and region attributes, numbered from 1) or `.svg` (a
+    /// `X.edge` with boundary markers and region attributes, numbered from 1), `.su2` (the SU2
+    /// solver's mesh, the boundary edges under `MARKER_TAG= marker_<m>` per marker) or `.svg` (a
     /// picture). Returns the files written.
     ///
     /// # Errors
@@ -379,6 +380,20 @@ impl MeshRun2 {
                 },
                 1,
             )?),
+            "su2" => {
+                delmesh_io::write_su2_2d(
+                    out,
+                    &delmesh_io::TriangleMeshOut {
+                        coords: &coords,
+                        triangles: &cells,
+                        point_markers: None,
+                        cell_attributes: None,
+                        edges: &a.edges,
+                        edge_markers: &a.edge_markers,
+                    },
+                )?;
+                Ok(vec![out.to_path_buf()])
+            }
             "svg" => {
                 delmesh_io::write_svg(
                     out,

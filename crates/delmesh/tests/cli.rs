@@ -590,6 +590,8 @@ fn mesh_a_poly_file_to_every_format() {
             "m.ele",
             "-o",
             "m.svg",
+            "-o",
+            "m.su2",
             "--report",
             "r.json",
             "--validate",
@@ -624,6 +626,61 @@ fn mesh_a_poly_file_to_every_format() {
     );
     let ele = int_rows(&dir.path().join("m.ele"));
     assert!(ele.len() > 8, "{ele:?}");
+    // SU2: the same triangles and points (0-based), the boundary edges of .edge under one
+    // marker tag per marker.
+    let su2 = std::fs::read_to_string(dir.path().join("m.su2")).unwrap();
+    let node = std::fs::read_to_string(dir.path().join("m.node")).unwrap();
+    let edges = int_rows(&dir.path().join("m.edge"));
+    let count = |key: &str| -> usize {
+        let line = su2.lines().find(|l| l.starts_with(key)).expect(key);
+        line[key.len()..].trim().parse().unwrap()
+    };
+    assert!(su2.starts_with("NDIME= 2\n"), "{su2}");
+    assert_eq!(count("NELEM="), ele[0][0] as usize);
+    let points: usize = node.split_whitespace().next().unwrap().parse().unwrap();
+    assert_eq!(count("NPOIN="), points);
+    assert_eq!(count("NMARK="), 2);
+    let first_triangle = &ele[1];
+    let su2_first: Vec<i64> = su2
+        .lines()
+        .nth(2)
+        .unwrap()
+        .split(' ')
+        .map(|t| t.parse().unwrap())
+        .collect();
+    assert_eq!(su2_first[0], 5);
+    assert_eq!(
+        su2_first[1..4],
+        first_triangle[1..4]
+            .iter()
+            .map(|v| v - 1)
+            .collect::<Vec<_>>()[..]
+    );
+    for marker in [1, 2] {
+        let tag = su2.find(&format!("MARKER_TAG= marker_{marker}\n")).unwrap();
+        let n: usize = su2[tag..].lines().nth(1).unwrap()["MARKER_ELEMS=".len()..]
+            .trim()
+            .parse()
+            .unwrap();
+        let mut from_su2: Vec<(i64, i64)> = su2[tag..]
+            .lines()
+            .skip(2)
+            .take(n)
+            .map(|l| {
+                let t: Vec<i64> = l.split(' ').map(|t| t.parse().unwrap()).collect();
+                assert_eq!(t[0], 3, "{l}");
+                (t[1].min(t[2]), t[1].max(t[2]))
+            })
+            .collect();
+        let mut from_edge: Vec<(i64, i64)> = edges[1..]
+            .iter()
+            .filter(|e| e[3] == marker)
+            .map(|e| ((e[1] - 1).min(e[2] - 1), (e[1] - 1).max(e[2] - 1)))
+            .collect();
+        from_su2.sort_unstable();
+        from_edge.sort_unstable();
+        assert_eq!(from_su2, from_edge, "marker {marker}");
+    }
 
     // The mesh's own spacing field drives a second run (a background mesh), and a previous
     // solution field drives adaptation.

@@ -23,7 +23,7 @@
 //! | Stanford `.ply`, ASCII and binary | [`read_ply`], [`parse_ply`] | |
 //! | Medit `.mesh` | [`read_medit`], [`parse_medit`] (surface and tetrahedra) | [`write_medit`] |
 //! | gmsh `.msh` 2.2 / 4.1, ASCII and binary | [`read_msh`], [`parse_msh`], [`parse_msh_bytes`] (surface and tetrahedra) | [`write_msh`] (4.1 ASCII) |
-//! | SU2 `.su2` | | [`write_su2`] |
+//! | SU2 `.su2` (3D, 2D) | | [`write_su2`], [`write_su2_2d`] |
 //! | TetGen `.node/.ele/.face` with markers and regions | | [`write_tetgen_mesh`] |
 //!
 //! [`read_points`] picks a point reader, [`read_surface`] a surface reader and
@@ -90,7 +90,7 @@ pub use off::{parse_off, read_off, write_off};
 pub use ply::{parse_ply, read_ply};
 pub use poly::{parse_poly, read_poly, write_poly, PolyFile, PolyRegion};
 pub use stl::{parse_stl, read_stl};
-pub use su2::write_su2;
+pub use su2::{write_su2, write_su2_2d};
 pub use surface::{read_surface, SurfaceFacet, SurfaceFile, SurfaceRegion};
 pub use svg::{write_svg, SvgMesh, SvgOptions};
 pub use tetgen_mesh::write_tetgen_mesh;

@@ -29,6 +29,41 @@ pub struct TriangleMeshOut<'a> {
     pub edge_markers: &'a [i32],
 }
 
+impl TriangleMeshOut<'_> {
+    /// Checks that the arrays are consistent; `file` is the destination named in errors.
+    pub(crate) fn check(&self, file: &Path) -> Result<(), IoError> {
+        check_points(file, 2, self.coords)?;
+        let np = self.coords.len() / 2;
+        let nt = self.triangles.len() / 3;
+        let bad = |m: String| Err(IoError::invalid(file, m));
+        if self.triangles.len() % 3 != 0 {
+            return bad("triangle array length is not a multiple of 3".into());
+        }
+        if let Some(v) = self.triangles.iter().find(|&&v| v as usize >= np) {
+            return bad(format!(
+                "a triangle refers to point {v} but there are {np} points"
+            ));
+        }
+        if self.point_markers.is_some_and(|m| m.len() != np) {
+            return bad("one point marker per point is needed".into());
+        }
+        if self.cell_attributes.is_some_and(|a| a.len() != nt) {
+            return bad("one attribute per triangle is needed".into());
+        }
+        if self.edges.len() != self.edge_markers.len() {
+            return bad("one marker per edge is needed".into());
+        }
+        if let Some(e) = self
+            .edges
+            .iter()
+            .find(|e| e[0] as usize >= np || e[1] as usize >= np)
+        {
+            return bad(format!("edge {e:?} refers to a point that does not exist"));
+        }
+        Ok(())
+    }
+}
+
 /// Writes `X.node`, `X.ele` and `X.edge` beside `ele_path` (`X` is the path without its `.ele`
 /// extension), numbered from `first_index` (0 or 1). Returns the paths written. Each file is
 /// atomic; everything is checked before the first is written.
@@ -37,35 +72,10 @@ pub fn write_triangle_family(
     mesh: &TriangleMeshOut<'_>,
     first_index: u32,
 ) -> Result<Vec<PathBuf>, IoError> {
-    check_points(ele_path, 2, mesh.coords)?;
+    mesh.check(ele_path)?;
     check_first_index(ele_path, first_index)?;
     let np = mesh.coords.len() / 2;
     let nt = mesh.triangles.len() / 3;
-    let bad = |m: String| Err(IoError::invalid(ele_path, m));
-    if mesh.triangles.len() % 3 != 0 {
-        return bad("triangle array length is not a multiple of 3".into());
-    }
-    if let Some(v) = mesh.triangles.iter().find(|&&v| v as usize >= np) {
-        return bad(format!(
-            "a triangle refers to point {v} but there are {np} points"
-        ));
-    }
-    if mesh.point_markers.is_some_and(|m| m.len() != np) {
-        return bad("one point marker per point is needed".into());
-    }
-    if mesh.cell_attributes.is_some_and(|a| a.len() != nt) {
-        return bad("one attribute per triangle is needed".into());
-    }
-    if mesh.edges.len() != mesh.edge_markers.len() {
-        return bad("one marker per edge is needed".into());
-    }
-    if let Some(e) = mesh
-        .edges
-        .iter()
-        .find(|e| e[0] as usize >= np || e[1] as usize >= np)
-    {
-        return bad(format!("edge {e:?} refers to a point that does not exist"));
-    }
     let stem = if ele_path.extension().is_some_and(|e| e == "ele") {
         ele_path.with_extension("")
     } else {

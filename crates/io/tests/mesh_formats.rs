@@ -2,7 +2,8 @@
 //! attributes, `.vtu` with point fields, and the errors of their readers.
 
 use delmesh_io::{
-    read_triangle_mesh, read_vtu, write_triangle_family, write_vtu, SimplexMesh, TriangleMeshOut,
+    read_triangle_mesh, read_vtu, write_su2_2d, write_triangle_family, write_vtu, SimplexMesh,
+    TriangleMeshOut,
 };
 use std::path::Path;
 
@@ -37,6 +38,32 @@ fn triangle_family_with_markers_round_trips() {
     assert_eq!(back.coords, COORDS);
     assert_eq!(back.cells, TRIS);
     assert!(back.point_fields.is_empty());
+}
+
+#[test]
+fn su2_2d_snapshot_groups_edges_by_marker() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("sq.su2");
+    // Markers out of order (and one negative): the groups come out sorted, each edge in the
+    // mesh's order.
+    let mesh = TriangleMeshOut {
+        coords: &COORDS,
+        triangles: &TRIS,
+        point_markers: None,
+        cell_attributes: None,
+        edges: &[[0, 1], [1, 2], [2, 3], [3, 0]],
+        edge_markers: &[7, -1, 7, 2],
+    };
+    write_su2_2d(&path, &mesh).unwrap();
+    insta::assert_snapshot!("square_su2_2d", std::fs::read_to_string(&path).unwrap());
+    // A bad edge is refused before anything is written.
+    let bad = TriangleMeshOut {
+        edges: &[[0, 1], [1, 9], [2, 3], [3, 0]],
+        ..mesh
+    };
+    let e = write_su2_2d(&dir.path().join("bad.su2"), &bad).unwrap_err();
+    assert!(e.to_string().contains("does not exist"), "{e}");
+    assert!(!dir.path().join("bad.su2").exists());
 }
 
 #[test]
