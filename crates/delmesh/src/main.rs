@@ -71,7 +71,8 @@ struct MeshArgs {
     #[arg(value_name = "INPUT")]
     input: PathBuf,
     /// Output file(s), by extension. 2D: .vtu (ParaView), .ele (Triangle .node/.ele/.edge with
-    /// markers), .su2 (SU2, boundary edges as marker_<m>), .svg (a picture). 3D: .vtu (+ X.boundary.vtu), .ele (TetGen .node/.ele/.face),
+    /// markers), .msh (gmsh 4.1, markers and regions as physical groups), .su2 (SU2, boundary
+    /// edges as marker_<m>), .svg (a picture). 3D: .vtu (+ X.boundary.vtu), .ele (TetGen .node/.ele/.face),
     /// .msh (gmsh 4.1), .mesh (Medit), .su2. Repeat for several.
     #[arg(short, long, value_name = "OUT", required = true)]
     output: Vec<PathBuf>,
@@ -397,7 +398,7 @@ fn mesh(args: &MeshArgs) -> Result<()> {
     for out in &args.output {
         if !matches!(
             out.extension().and_then(|e| e.to_str()),
-            Some("vtu" | "ele" | "su2" | "svg")
+            Some("vtu" | "ele" | "msh" | "su2" | "svg")
         ) {
             anyhow::bail!(
                 "{}: unsupported output format (supported: {})",

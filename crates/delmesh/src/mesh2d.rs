@@ -319,12 +319,13 @@ pub fn plc_from_poly(poly: &PolyFile) -> Plc2 {
 }
 
 /// The output formats of [`MeshRun2::write`], by extension.
-pub const MESH_OUTPUTS: &str = ".vtu, .ele, .su2, .svg";
+pub const MESH_OUTPUTS: &str = ".vtu, .ele, .msh, .su2, .svg";
 
 impl MeshRun2 {
     /// Writes the mesh to `out`, the format chosen by its extension: `.vtu` (cell data `region`,
     /// point data `marker` and `spacing`), `.ele` (the Triangle family `X.node`, `X.ele`,
-    /// `X.edge` with boundary markers and region attributes, numbered from 1), `.su2` (the SU2
+    /// `X.edge` with boundary markers and region attributes, numbered from 1), `.msh` (gmsh 4.1:
+    /// boundary edges and triangles in physical groups by marker and region), `.su2` (the SU2
     /// solver's mesh, the boundary edges under `MARKER_TAG= marker_<m>` per marker) or `.svg` (a
     /// picture). Returns the files written.
     ///
@@ -380,6 +381,20 @@ impl MeshRun2 {
                 },
                 1,
             )?),
+            "msh" => {
+                delmesh_io::write_msh_2d(
+                    out,
+                    &delmesh_io::TriangleMeshOut {
+                        coords: &coords,
+                        triangles: &cells,
+                        point_markers: None,
+                        cell_attributes: Some(&a.regions),
+                        edges: &a.edges,
+                        edge_markers: &a.edge_markers,
+                    },
+                )?;
+                Ok(vec![out.to_path_buf()])
+            }
             "su2" => {
                 delmesh_io::write_su2_2d(
                     out,

@@ -592,6 +592,8 @@ fn mesh_a_poly_file_to_every_format() {
             "m.svg",
             "-o",
             "m.su2",
+            "-o",
+            "m.msh",
             "--report",
             "r.json",
             "--validate",
@@ -681,6 +683,15 @@ fn mesh_a_poly_file_to_every_format() {
         from_edge.sort_unstable();
         assert_eq!(from_su2, from_edge, "marker {marker}");
     }
+    // gmsh: the same triangles (read back as facets), both markers' groups.
+    let msh = delmesh::io::read_msh(&dir.path().join("m.msh")).unwrap();
+    assert_eq!(msh.facets.len(), ele[0][0] as usize);
+    assert_eq!(msh.points.len(), points);
+    let text = std::fs::read_to_string(dir.path().join("m.msh")).unwrap();
+    assert!(
+        text.contains("1 1 \"marker_1\"\n1 2 \"marker_2\"\n"),
+        "{text}"
+    );
 
     // The mesh's own spacing field drives a second run (a background mesh), and a previous
     // solution field drives adaptation.

@@ -22,7 +22,7 @@
 //! | Wavefront `.obj` | [`read_obj`], [`parse_obj`] | |
 //! | Stanford `.ply`, ASCII and binary | [`read_ply`], [`parse_ply`] | |
 //! | Medit `.mesh` | [`read_medit`], [`parse_medit`] (surface and tetrahedra) | [`write_medit`] |
-//! | gmsh `.msh` 2.2 / 4.1, ASCII and binary | [`read_msh`], [`parse_msh`], [`parse_msh_bytes`] (surface and tetrahedra) | [`write_msh`] (4.1 ASCII) |
+//! | gmsh `.msh` 2.2 / 4.1, ASCII and binary | [`read_msh`], [`parse_msh`], [`parse_msh_bytes`] (surface and tetrahedra) | [`write_msh`], 2D [`write_msh_2d`] (4.1 ASCII) |
 //! | SU2 `.su2` (3D, 2D) | | [`write_su2`], [`write_su2_2d`] |
 //! | TetGen `.node/.ele/.face` with markers and regions | | [`write_tetgen_mesh`] |
 //!
@@ -83,7 +83,7 @@ pub use atomic::write_atomic;
 pub use error::IoError;
 pub use medit::{parse_medit, read_medit, write_medit};
 pub use model::{PointSet, SimplexMesh};
-pub use msh::{parse_msh, parse_msh_bytes, read_msh, write_msh};
+pub use msh::{parse_msh, parse_msh_bytes, read_msh, write_msh, write_msh_2d};
 pub use node::{parse_node, read_node, write_ele, write_neigh, write_node, write_tetgen_family};
 pub use obj::{parse_obj, read_obj};
 pub use off::{parse_off, read_off, write_off};

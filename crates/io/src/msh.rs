@@ -37,6 +37,10 @@
 //! volume physical tag `r`, named `region_<r>`. Markers `<= 0` and other regions (gmsh physical
 //! tags must be positive) get the next free tags, and keep their value in their name
 //! (`marker_0`, `region_0.5`).
+//!
+//! 2D meshes ([`write_msh_2d`]) are written the same way a dimension down: one curve entity
+//! per edge marker (its edges as 2-node lines, type 1), one surface entity per region (its
+//! triangles, type 2), the nodes on the first surface entity with z = 0.
 
 use std::collections::HashMap;
 use std::io::Write;
@@ -47,6 +51,7 @@ use crate::msh_binary;
 use crate::surface::{SurfaceFacet, SurfaceFile};
 use crate::tetmesh::TetMeshOut;
 use crate::text::{format_f64, parse_coord, parse_count, parse_int, shorten, write_f64};
+use crate::triangle::TriangleMeshOut;
 use crate::IoError;
 
 /// Reads a gmsh `.msh` file (version 2.2 or 4.1, ASCII or binary).
@@ -803,4 +808,151 @@ fn msh_body(w: &mut dyn Write, mesh: &TetMeshOut<'_>, groups: &Groups) -> std::i
         }
     }
     writeln!(w, "$EndElements")
+}
+
+/// Writes a 2D triangle mesh as a gmsh 4.1 ASCII `.msh` file: a curve entity and physical group
+/// (dimension 1) per edge marker, a surface entity and physical group (dimension 2) per region
+/// (the triangles' attributes; 0 without), z = 0 (see the module documentation for the tags
+/// and names). Point markers are not written. Atomic.
+pub fn write_msh_2d(path: &Path, mesh: &TriangleMeshOut<'_>) -> Result<(), IoError> {
+    mesh.check(path)?;
+    let nt = mesh.triangles.len() / 3;
+    let region = |k: usize| mesh.cell_attributes.map_or(0.0, |a| a[k]) + 0.0;
+    let mut markers = mesh.edge_markers.to_vec();
+    markers.sort_unstable();
+    markers.dedup();
+    let mut regions: Vec<f64> = (0..nt).map(region).collect();
+    if let Some(x) = regions.iter().find(|r| !r.is_finite()) {
+        return Err(IoError::invalid(path, format!("a region attribute is {x}")));
+    }
+    regions.sort_by(f64::total_cmp);
+    regions.dedup();
+    let marker_tags = physical_tags(
+        &markers
+            .iter()
+            .map(|&m| (m > 0).then_some(m))
+            .collect::<Vec<_>>(),
+    );
+    let region_tags = physical_tags(
+        &regions
+            .iter()
+            .map(|&r| {
+                (r.fract() == 0.0 && r >= 1.0 && r <= f64::from(i32::MAX)).then_some(r as i32)
+            })
+            .collect::<Vec<_>>(),
+    );
+    let (Some(marker_tags), Some(region_tags)) = (marker_tags, region_tags) else {
+        return Err(IoError::invalid(
+            path,
+            "no free physical tag is left for the markers <= 0 or non-integer regions (tags \
+             up to 2147483647 are taken)",
+        ));
+    };
+    // Element indices per entity, in input order.
+    let mut edges_of = vec![Vec::new(); markers.len()];
+    for (k, m) in mesh.edge_markers.iter().enumerate() {
+        edges_of[markers.binary_search(m).expect("a marker of the list")].push(k);
+    }
+    let mut triangles_of = vec![Vec::new(); regions.len()];
+    for k in 0..nt {
+        let r = region(k);
+        triangles_of[regions
+            .binary_search_by(|x| x.total_cmp(&r))
+            .expect("a region of the list")]
+        .push(k);
+    }
+    let coords: Vec<[f64; 3]> = mesh
+        .coords
+        .chunks_exact(2)
+        .map(|p| [p[0], p[1], 0.0])
+        .collect();
+    let corners = |k: usize| [0, 1, 2].map(|i| mesh.triangles[3 * k + i]);
+    write_atomic(path, |w| {
+        (|| -> std::io::Result<()> {
+            writeln!(w, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
+            writeln!(w, "$PhysicalNames\n{}", markers.len() + regions.len())?;
+            for (&m, t) in markers.iter().zip(&marker_tags) {
+                writeln!(w, "1 {t} \"marker_{m}\"")?;
+            }
+            for (&r, t) in regions.iter().zip(&region_tags) {
+                writeln!(w, "2 {t} \"region_{}\"", format_f64(r))?;
+            }
+            writeln!(w, "$EndPhysicalNames")?;
+            // Without triangles, one surface entity without physical group holds the nodes.
+            let n_surfaces = regions.len().max(1);
+            writeln!(w, "$Entities\n0 {} {n_surfaces} 0", markers.len())?;
+            let entity = |w: &mut dyn Write, tag: usize, b: [f64; 6], phys: Option<i32>| {
+                write!(w, "{tag}")?;
+                for x in b {
+                    w.write_all(b" ")?;
+                    write_f64(w, x)?;
+                }
+                match phys {
+                    Some(p) => writeln!(w, " 1 {p} 0"),
+                    None => writeln!(w, " 0 0"),
+                }
+            };
+            for (s, edges) in edges_of.iter().enumerate() {
+                let b = bbox(&coords, edges.iter().flat_map(|&k| mesh.edges[k]));
+                entity(w, s + 1, b, Some(marker_tags[s]))?;
+            }
+            if regions.is_empty() {
+                entity(w, 1, bbox(&coords, 0..coords.len() as u32), None)?;
+            }
+            for (v, triangles) in triangles_of.iter().enumerate() {
+                let b = bbox(&coords, triangles.iter().flat_map(|&k| corners(k)));
+                entity(w, v + 1, b, Some(region_tags[v]))?;
+            }
+            writeln!(w, "$EndEntities")?;
+            let np = coords.len();
+            writeln!(w, "$Nodes")?;
+            if np == 0 {
+                writeln!(w, "0 0 0 0")?;
+            } else {
+                writeln!(w, "1 {np} 1 {np}\n2 1 0 {np}")?;
+                for i in 1..=np {
+                    writeln!(w, "{i}")?;
+                }
+                for p in &coords {
+                    write_f64(w, p[0])?;
+                    w.write_all(b" ")?;
+                    write_f64(w, p[1])?;
+                    w.write_all(b" 0\n")?;
+                }
+            }
+            writeln!(w, "$EndNodes")?;
+            let n_elements = mesh.edges.len() + nt;
+            let n_blocks = markers.len() + regions.len();
+            writeln!(
+                w,
+                "$Elements\n{n_blocks} {n_elements} {} {n_elements}",
+                u8::from(n_elements > 0)
+            )?;
+            let mut tag = 0u64;
+            for (s, edges) in edges_of.iter().enumerate() {
+                writeln!(w, "1 {} 1 {}", s + 1, edges.len())?;
+                for &k in edges {
+                    tag += 1;
+                    let [a, b] = mesh.edges[k];
+                    writeln!(w, "{tag} {} {}", u64::from(a) + 1, u64::from(b) + 1)?;
+                }
+            }
+            for (v, triangles) in triangles_of.iter().enumerate() {
+                writeln!(w, "2 {} 2 {}", v + 1, triangles.len())?;
+                for &k in triangles {
+                    tag += 1;
+                    let t = corners(k);
+                    writeln!(
+                        w,
+                        "{tag} {} {} {}",
+                        u64::from(t[0]) + 1,
+                        u64::from(t[1]) + 1,
+                        u64::from(t[2]) + 1
+                    )?;
+                }
+            }
+            writeln!(w, "$EndElements")
+        })()
+        .map_err(|e| IoError::io(path, e))
+    })
 }

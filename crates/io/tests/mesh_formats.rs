@@ -2,8 +2,8 @@
 //! attributes, `.vtu` with point fields, and the errors of their readers.
 
 use delmesh_io::{
-    read_triangle_mesh, read_vtu, write_su2_2d, write_triangle_family, write_vtu, SimplexMesh,
-    TriangleMeshOut,
+    read_msh, read_triangle_mesh, read_vtu, write_msh_2d, write_su2_2d, write_triangle_family,
+    write_vtu, SimplexMesh, TriangleMeshOut,
 };
 use std::path::Path;
 
@@ -64,6 +64,48 @@ fn su2_2d_snapshot_groups_edges_by_marker() {
     let e = write_su2_2d(&dir.path().join("bad.su2"), &bad).unwrap_err();
     assert!(e.to_string().contains("does not exist"), "{e}");
     assert!(!dir.path().join("bad.su2").exists());
+}
+
+#[test]
+fn msh_2d_snapshot_and_read_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("sq.msh");
+    // Two regions (3 keeps its number, 0.5 gets a free tag), markers 7, -1 and 2.
+    let mesh = TriangleMeshOut {
+        coords: &COORDS,
+        triangles: &TRIS,
+        point_markers: None,
+        cell_attributes: Some(&[3.0, 0.5, 3.0, 0.5]),
+        edges: &[[0, 1], [1, 2], [2, 3], [3, 0]],
+        edge_markers: &[7, -1, 7, 2],
+    };
+    write_msh_2d(&path, &mesh).unwrap();
+    insta::assert_snapshot!("square_msh_2d", std::fs::read_to_string(&path).unwrap());
+    // This crate's reader takes the triangles as facets, their region's group as the marker.
+    let back = read_msh(&path).unwrap();
+    let corners: Vec<[f64; 3]> = COORDS.chunks(2).map(|p| [p[0], p[1], 0.0]).collect();
+    assert_eq!(back.points, corners);
+    let facets: Vec<(Vec<u32>, i32)> = back
+        .facets
+        .iter()
+        .map(|f| (f.polygons[0].clone(), f.marker))
+        .collect();
+    assert_eq!(
+        facets,
+        [
+            (vec![1, 2, 4], 4),
+            (vec![3, 0, 4], 4),
+            (vec![0, 1, 4], 3),
+            (vec![2, 3, 4], 3)
+        ]
+    );
+    let bad = TriangleMeshOut {
+        cell_attributes: Some(&[3.0, f64::NAN, 3.0, 0.5]),
+        ..mesh
+    };
+    let e = write_msh_2d(&dir.path().join("bad.msh"), &bad).unwrap_err();
+    assert!(e.to_string().contains("NaN"), "{e}");
+    assert!(!dir.path().join("bad.msh").exists());
 }
 
 #[test]
