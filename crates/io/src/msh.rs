@@ -615,6 +615,54 @@ fn physical_tags(own: &[Option<i32>]) -> Option<Vec<i32>> {
         .collect()
 }
 
+/// The physical tags of boundary markers (a marker `m > 0` is tag `m`) and of regions (a
+/// positive integer region is its own tag); `None` when no free tag is left.
+fn group_tags(markers: &[i32], regions: &[f64]) -> Option<(Vec<i32>, Vec<i32>)> {
+    let markers = physical_tags(
+        &markers
+            .iter()
+            .map(|&m| (m > 0).then_some(m))
+            .collect::<Vec<_>>(),
+    )?;
+    let regions = physical_tags(
+        &regions
+            .iter()
+            .map(|&r| {
+                (r.fract() == 0.0 && r >= 1.0 && r <= f64::from(i32::MAX)).then_some(r as i32)
+            })
+            .collect::<Vec<_>>(),
+    )?;
+    Some((markers, regions))
+}
+
+/// The error of [`group_tags`]'s `None`.
+fn no_free_tag(path: &Path) -> IoError {
+    IoError::invalid(
+        path,
+        "no free physical tag is left for the markers <= 0 or non-integer regions (tags up to \
+         2147483647 are taken)",
+    )
+}
+
+/// One line of `$Entities`: the entity's tag, bounding box and physical group (if any), with
+/// no bounding entities.
+fn entity_line(
+    w: &mut dyn Write,
+    tag: usize,
+    b: [f64; 6],
+    phys: Option<i32>,
+) -> std::io::Result<()> {
+    write!(w, "{tag}")?;
+    for x in b {
+        w.write_all(b" ")?;
+        write_f64(w, x)?;
+    }
+    match phys {
+        Some(p) => writeln!(w, " 1 {p} 0"),
+        None => writeln!(w, " 0 0"),
+    }
+}
+
 /// Bounding box of the points of some elements, as gmsh's `$Entities` wants it.
 fn bbox(coords: &[[f64; 3]], nodes: impl Iterator<Item = u32>) -> [f64; 6] {
     let mut b = [
@@ -643,33 +691,14 @@ fn bbox(coords: &[[f64; 3]], nodes: impl Iterator<Item = u32>) -> [f64; 6] {
 /// markers and regions (see the module documentation for the numbering). Atomic.
 pub fn write_msh(path: &Path, mesh: &TetMeshOut<'_>) -> Result<(), IoError> {
     mesh.check(path)?;
-    // Surface entities: one per distinct marker.
+    // Surface entities: one per distinct marker; volume entities: one per distinct region
+    // (values compared with -0 == 0).
     let markers = mesh.distinct_markers();
-    let marker_tags = physical_tags(
-        &markers
-            .iter()
-            .map(|&m| (m > 0).then_some(m))
-            .collect::<Vec<_>>(),
-    );
-    // Volume entities: one per distinct region (values compared with -0 == 0).
     let mut regions: Vec<f64> = (0..mesh.tets.len()).map(|k| mesh.region(k) + 0.0).collect();
     regions.sort_by(f64::total_cmp);
     regions.dedup();
-    let region_tags = physical_tags(
-        &regions
-            .iter()
-            .map(|&r| {
-                (r.fract() == 0.0 && r >= 1.0 && r <= f64::from(i32::MAX)).then_some(r as i32)
-            })
-            .collect::<Vec<_>>(),
-    );
-    let (Some(marker_tags), Some(region_tags)) = (marker_tags, region_tags) else {
-        return Err(IoError::invalid(
-            path,
-            "no free physical tag is left for the markers <= 0 or non-integer regions (tags \
-             up to 2147483647 are taken)",
-        ));
-    };
+    let (marker_tags, region_tags) =
+        group_tags(&markers, &regions).ok_or_else(|| no_free_tag(path))?;
     let groups = Groups {
         markers,
         marker_tags,
@@ -725,28 +754,16 @@ fn msh_body(w: &mut dyn Write, mesh: &TetMeshOut<'_>, groups: &Groups) -> std::i
     // Without tetrahedra, one volume entity without physical group still holds the nodes.
     let n_volumes = regions.len().max(1);
     writeln!(w, "$Entities\n0 0 {} {n_volumes}", markers.len())?;
-    let entity =
-        |w: &mut dyn Write, tag: usize, b: [f64; 6], phys: Option<i32>| -> std::io::Result<()> {
-            write!(w, "{tag}")?;
-            for x in b {
-                w.write_all(b" ")?;
-                write_f64(w, x)?;
-            }
-            match phys {
-                Some(p) => writeln!(w, " 1 {p} 0"),
-                None => writeln!(w, " 0 0"),
-            }
-        };
     for (s, faces) in faces_of.iter().enumerate() {
         let b = bbox(coords, faces.iter().flat_map(|&k| mesh.faces[k]));
-        entity(w, s + 1, b, Some(marker_tags[s]))?;
+        entity_line(w, s + 1, b, Some(marker_tags[s]))?;
     }
     if regions.is_empty() {
-        entity(w, 1, bbox(coords, 0..coords.len() as u32), None)?;
+        entity_line(w, 1, bbox(coords, 0..coords.len() as u32), None)?;
     }
     for (v, tets) in tets_of.iter().enumerate() {
         let b = bbox(coords, tets.iter().flat_map(|&k| mesh.tets[k]));
-        entity(w, v + 1, b, Some(region_tags[v]))?;
+        entity_line(w, v + 1, b, Some(region_tags[v]))?;
     }
     writeln!(w, "$EndEntities")?;
 
@@ -827,27 +844,8 @@ pub fn write_msh_2d(path: &Path, mesh: &TriangleMeshOut<'_>) -> Result<(), IoErr
     }
     regions.sort_by(f64::total_cmp);
     regions.dedup();
-    let marker_tags = physical_tags(
-        &markers
-            .iter()
-            .map(|&m| (m > 0).then_some(m))
-            .collect::<Vec<_>>(),
-    );
-    let region_tags = physical_tags(
-        &regions
-            .iter()
-            .map(|&r| {
-                (r.fract() == 0.0 && r >= 1.0 && r <= f64::from(i32::MAX)).then_some(r as i32)
-            })
-            .collect::<Vec<_>>(),
-    );
-    let (Some(marker_tags), Some(region_tags)) = (marker_tags, region_tags) else {
-        return Err(IoError::invalid(
-            path,
-            "no free physical tag is left for the markers <= 0 or non-integer regions (tags \
-             up to 2147483647 are taken)",
-        ));
-    };
+    let (marker_tags, region_tags) =
+        group_tags(&markers, &regions).ok_or_else(|| no_free_tag(path))?;
     // Element indices per entity, in input order.
     let mut edges_of = vec![Vec::new(); markers.len()];
     for (k, m) in mesh.edge_markers.iter().enumerate() {
@@ -881,27 +879,16 @@ pub fn write_msh_2d(path: &Path, mesh: &TriangleMeshOut<'_>) -> Result<(), IoErr
             // Without triangles, one surface entity without physical group holds the nodes.
             let n_surfaces = regions.len().max(1);
             writeln!(w, "$Entities\n0 {} {n_surfaces} 0", markers.len())?;
-            let entity = |w: &mut dyn Write, tag: usize, b: [f64; 6], phys: Option<i32>| {
-                write!(w, "{tag}")?;
-                for x in b {
-                    w.write_all(b" ")?;
-                    write_f64(w, x)?;
-                }
-                match phys {
-                    Some(p) => writeln!(w, " 1 {p} 0"),
-                    None => writeln!(w, " 0 0"),
-                }
-            };
             for (s, edges) in edges_of.iter().enumerate() {
                 let b = bbox(&coords, edges.iter().flat_map(|&k| mesh.edges[k]));
-                entity(w, s + 1, b, Some(marker_tags[s]))?;
+                entity_line(w, s + 1, b, Some(marker_tags[s]))?;
             }
             if regions.is_empty() {
-                entity(w, 1, bbox(&coords, 0..coords.len() as u32), None)?;
+                entity_line(w, 1, bbox(&coords, 0..coords.len() as u32), None)?;
             }
             for (v, triangles) in triangles_of.iter().enumerate() {
                 let b = bbox(&coords, triangles.iter().flat_map(|&k| corners(k)));
-                entity(w, v + 1, b, Some(region_tags[v]))?;
+                entity_line(w, v + 1, b, Some(region_tags[v]))?;
             }
             writeln!(w, "$EndEntities")?;
             let np = coords.len();
