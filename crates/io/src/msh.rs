@@ -663,8 +663,9 @@ fn entity_line(
     }
 }
 
-/// Bounding box of the points of some elements, as gmsh's `$Entities` wants it.
-fn bbox(coords: &[[f64; 3]], nodes: impl Iterator<Item = u32>) -> [f64; 6] {
+/// Bounding box of some points (of `dim` coordinates each in `coords`; z = 0 in 2D), as gmsh's
+/// `$Entities` wants it.
+fn bbox(coords: &[f64], dim: usize, nodes: impl Iterator<Item = u32>) -> [f64; 6] {
     let mut b = [
         f64::INFINITY,
         f64::INFINITY,
@@ -674,10 +675,11 @@ fn bbox(coords: &[[f64; 3]], nodes: impl Iterator<Item = u32>) -> [f64; 6] {
         f64::NEG_INFINITY,
     ];
     for v in nodes {
-        let p = coords[v as usize];
+        let p = &coords[dim * v as usize..][..dim];
         for d in 0..3 {
-            b[d] = b[d].min(p[d]);
-            b[3 + d] = b[3 + d].max(p[d]);
+            let x = p.get(d).copied().unwrap_or(0.0);
+            b[d] = b[d].min(x);
+            b[3 + d] = b[3 + d].max(x);
         }
     }
     if b[0] > b[3] {
@@ -691,140 +693,18 @@ fn bbox(coords: &[[f64; 3]], nodes: impl Iterator<Item = u32>) -> [f64; 6] {
 /// markers and regions (see the module documentation for the numbering). Atomic.
 pub fn write_msh(path: &Path, mesh: &TetMeshOut<'_>) -> Result<(), IoError> {
     mesh.check(path)?;
-    // Surface entities: one per distinct marker; volume entities: one per distinct region
-    // (values compared with -0 == 0).
-    let markers = mesh.distinct_markers();
-    let mut regions: Vec<f64> = (0..mesh.tets.len()).map(|k| mesh.region(k) + 0.0).collect();
-    regions.sort_by(f64::total_cmp);
-    regions.dedup();
-    let (marker_tags, region_tags) =
-        group_tags(&markers, &regions).ok_or_else(|| no_free_tag(path))?;
-    let groups = Groups {
-        markers,
-        marker_tags,
-        regions,
-        region_tags,
-    };
-    write_atomic(path, |w| {
-        msh_body(w, mesh, &groups).map_err(|e| IoError::io(path, e))
-    })
-}
-
-/// The entities and physical groups of a mesh: distinct face markers and regions, sorted,
-/// with their physical tags.
-struct Groups {
-    markers: Vec<i32>,
-    marker_tags: Vec<i32>,
-    regions: Vec<f64>,
-    region_tags: Vec<i32>,
-}
-
-fn msh_body(w: &mut dyn Write, mesh: &TetMeshOut<'_>, groups: &Groups) -> std::io::Result<()> {
-    let coords = mesh.coords;
-    let Groups {
-        markers,
-        marker_tags,
-        regions,
-        region_tags,
-    } = groups;
-    // Element indices per entity, in input order.
-    let mut faces_of = vec![Vec::new(); markers.len()];
-    for (k, m) in mesh.face_markers.iter().enumerate() {
-        faces_of[markers.binary_search(m).expect("a marker of the list")].push(k);
-    }
-    let mut tets_of = vec![Vec::new(); regions.len()];
-    for k in 0..mesh.tets.len() {
-        let r = mesh.region(k) + 0.0;
-        tets_of[regions
-            .binary_search_by(|x| x.total_cmp(&r))
-            .expect("a region of the list")]
-        .push(k);
-    }
-
-    writeln!(w, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
-    writeln!(w, "$PhysicalNames\n{}", markers.len() + regions.len())?;
-    for (&m, t) in markers.iter().zip(marker_tags) {
-        writeln!(w, "2 {t} \"{}\"", mesh.marker_name(m))?;
-    }
-    for (&r, t) in regions.iter().zip(region_tags) {
-        writeln!(w, "3 {t} \"region_{}\"", format_f64(r))?;
-    }
-    writeln!(w, "$EndPhysicalNames")?;
-
-    // Without tetrahedra, one volume entity without physical group still holds the nodes.
-    let n_volumes = regions.len().max(1);
-    writeln!(w, "$Entities\n0 0 {} {n_volumes}", markers.len())?;
-    for (s, faces) in faces_of.iter().enumerate() {
-        let b = bbox(coords, faces.iter().flat_map(|&k| mesh.faces[k]));
-        entity_line(w, s + 1, b, Some(marker_tags[s]))?;
-    }
-    if regions.is_empty() {
-        entity_line(w, 1, bbox(coords, 0..coords.len() as u32), None)?;
-    }
-    for (v, tets) in tets_of.iter().enumerate() {
-        let b = bbox(coords, tets.iter().flat_map(|&k| mesh.tets[k]));
-        entity_line(w, v + 1, b, Some(region_tags[v]))?;
-    }
-    writeln!(w, "$EndEntities")?;
-
-    let np = coords.len();
-    writeln!(w, "$Nodes")?;
-    if np == 0 {
-        writeln!(w, "0 0 0 0")?;
-    } else {
-        writeln!(w, "1 {np} 1 {np}\n3 1 0 {np}")?;
-        for i in 1..=np {
-            writeln!(w, "{i}")?;
-        }
-        for p in coords {
-            write_f64(w, p[0])?;
-            for &c in &p[1..] {
-                w.write_all(b" ")?;
-                write_f64(w, c)?;
-            }
-            w.write_all(b"\n")?;
-        }
-    }
-    writeln!(w, "$EndNodes")?;
-
-    let n_elements = mesh.faces.len() + mesh.tets.len();
-    let n_blocks = markers.len() + regions.len();
-    writeln!(
-        w,
-        "$Elements\n{n_blocks} {n_elements} {} {n_elements}",
-        u8::from(n_elements > 0)
-    )?;
-    let mut tag = 0u64;
-    for (s, faces) in faces_of.iter().enumerate() {
-        writeln!(w, "2 {} 2 {}", s + 1, faces.len())?;
-        for &k in faces {
-            tag += 1;
-            let t = mesh.faces[k];
-            writeln!(
-                w,
-                "{tag} {} {} {}",
-                u64::from(t[0]) + 1,
-                u64::from(t[1]) + 1,
-                u64::from(t[2]) + 1
-            )?;
-        }
-    }
-    for (v, tets) in tets_of.iter().enumerate() {
-        writeln!(w, "3 {} 4 {}", v + 1, tets.len())?;
-        for &k in tets {
-            tag += 1;
-            let t = mesh.tets[k];
-            writeln!(
-                w,
-                "{tag} {} {} {} {}",
-                u64::from(t[0]) + 1,
-                u64::from(t[1]) + 1,
-                u64::from(t[2]) + 1,
-                u64::from(t[3]) + 1
-            )?;
-        }
-    }
-    writeln!(w, "$EndElements")
+    write_simplices(
+        path,
+        &Simplices {
+            dim: 3,
+            coords: mesh.coords.as_flattened(),
+            boundary: mesh.faces.as_flattened(),
+            markers: mesh.face_markers,
+            cells: mesh.tets.as_flattened(),
+            region: &|k| mesh.region(k),
+            marker_name: &|m| mesh.marker_name(m),
+        },
+    )
 }
 
 /// Writes a 2D triangle mesh as a gmsh 4.1 ASCII `.msh` file: a curve entity and physical group
@@ -833,82 +713,120 @@ fn msh_body(w: &mut dyn Write, mesh: &TetMeshOut<'_>, groups: &Groups) -> std::i
 /// and names). Point markers are not written. Atomic.
 pub fn write_msh_2d(path: &Path, mesh: &TriangleMeshOut<'_>) -> Result<(), IoError> {
     mesh.check(path)?;
-    let nt = mesh.triangles.len() / 3;
-    let region = |k: usize| mesh.cell_attributes.map_or(0.0, |a| a[k]) + 0.0;
-    let mut markers = mesh.edge_markers.to_vec();
+    write_simplices(
+        path,
+        &Simplices {
+            dim: 2,
+            coords: mesh.coords,
+            boundary: mesh.edges.as_flattened(),
+            markers: mesh.edge_markers,
+            cells: mesh.triangles,
+            region: &|k| mesh.cell_attributes.map_or(0.0, |a| a[k]),
+            marker_name: &|m| format!("marker_{m}"),
+        },
+    )
+}
+
+/// A checked mesh as both writers hand it over: `dim` (2 or 3) coordinates per point, boundary
+/// simplices of `dim` points with a marker each, cells of `dim + 1` points with a region each.
+struct Simplices<'a> {
+    dim: usize,
+    coords: &'a [f64],
+    boundary: &'a [u32],
+    markers: &'a [i32],
+    cells: &'a [u32],
+    region: &'a dyn Fn(usize) -> f64,
+    marker_name: &'a dyn Fn(i32) -> String,
+}
+
+/// The gmsh file of `mesh`: one entity of dimension `dim - 1` per distinct marker (tags 1, 2,
+/// ... in increasing order), one of dimension `dim` per distinct region (regions compared with
+/// -0 == 0), each in a physical group of its own; the nodes on the first cell entity.
+fn write_simplices(path: &Path, mesh: &Simplices<'_>) -> Result<(), IoError> {
+    let dim = mesh.dim;
+    let n_cells = mesh.cells.len() / (dim + 1);
+    let region = |k: usize| (mesh.region)(k) + 0.0;
+    let mut markers = mesh.markers.to_vec();
     markers.sort_unstable();
     markers.dedup();
-    let mut regions: Vec<f64> = (0..nt).map(region).collect();
-    if let Some(x) = regions.iter().find(|r| !r.is_finite()) {
-        return Err(IoError::invalid(path, format!("a region attribute is {x}")));
-    }
+    let mut regions: Vec<f64> = (0..n_cells).map(region).collect();
     regions.sort_by(f64::total_cmp);
     regions.dedup();
     let (marker_tags, region_tags) =
         group_tags(&markers, &regions).ok_or_else(|| no_free_tag(path))?;
     // Element indices per entity, in input order.
-    let mut edges_of = vec![Vec::new(); markers.len()];
-    for (k, m) in mesh.edge_markers.iter().enumerate() {
-        edges_of[markers.binary_search(m).expect("a marker of the list")].push(k);
+    let mut boundary_of = vec![Vec::new(); markers.len()];
+    for (k, m) in mesh.markers.iter().enumerate() {
+        boundary_of[markers.binary_search(m).expect("a marker of the list")].push(k);
     }
-    let mut triangles_of = vec![Vec::new(); regions.len()];
-    for k in 0..nt {
+    let mut cells_of = vec![Vec::new(); regions.len()];
+    for k in 0..n_cells {
         let r = region(k);
-        triangles_of[regions
+        cells_of[regions
             .binary_search_by(|x| x.total_cmp(&r))
             .expect("a region of the list")]
         .push(k);
     }
-    let coords: Vec<[f64; 3]> = mesh
-        .coords
-        .chunks_exact(2)
-        .map(|p| [p[0], p[1], 0.0])
-        .collect();
-    let corners = |k: usize| [0, 1, 2].map(|i| mesh.triangles[3 * k + i]);
+    let coords = mesh.coords;
+    let np = coords.len() / dim;
     write_atomic(path, |w| {
         (|| -> std::io::Result<()> {
             writeln!(w, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
             writeln!(w, "$PhysicalNames\n{}", markers.len() + regions.len())?;
             for (&m, t) in markers.iter().zip(&marker_tags) {
-                writeln!(w, "1 {t} \"marker_{m}\"")?;
+                writeln!(w, "{} {t} \"{}\"", dim - 1, (mesh.marker_name)(m))?;
             }
             for (&r, t) in regions.iter().zip(&region_tags) {
-                writeln!(w, "2 {t} \"region_{}\"", format_f64(r))?;
+                writeln!(w, "{dim} {t} \"region_{}\"", format_f64(r))?;
             }
             writeln!(w, "$EndPhysicalNames")?;
-            // Without triangles, one surface entity without physical group holds the nodes.
-            let n_surfaces = regions.len().max(1);
-            writeln!(w, "$Entities\n0 {} {n_surfaces} 0", markers.len())?;
-            for (s, edges) in edges_of.iter().enumerate() {
-                let b = bbox(&coords, edges.iter().flat_map(|&k| mesh.edges[k]));
+            // Without cells, one cell entity without physical group still holds the nodes.
+            let mut counts = [0; 4];
+            counts[dim - 1] = markers.len();
+            counts[dim] = regions.len().max(1);
+            let [c0, c1, c2, c3] = counts;
+            writeln!(w, "$Entities\n{c0} {c1} {c2} {c3}")?;
+            for (s, elements) in boundary_of.iter().enumerate() {
+                let nodes = elements
+                    .iter()
+                    .flat_map(|&k| &mesh.boundary[dim * k..][..dim]);
+                let b = bbox(coords, dim, nodes.copied());
                 entity_line(w, s + 1, b, Some(marker_tags[s]))?;
             }
             if regions.is_empty() {
-                entity_line(w, 1, bbox(&coords, 0..coords.len() as u32), None)?;
+                entity_line(w, 1, bbox(coords, dim, 0..np as u32), None)?;
             }
-            for (v, triangles) in triangles_of.iter().enumerate() {
-                let b = bbox(&coords, triangles.iter().flat_map(|&k| corners(k)));
+            for (v, elements) in cells_of.iter().enumerate() {
+                let nodes = elements
+                    .iter()
+                    .flat_map(|&k| &mesh.cells[(dim + 1) * k..][..dim + 1]);
+                let b = bbox(coords, dim, nodes.copied());
                 entity_line(w, v + 1, b, Some(region_tags[v]))?;
             }
             writeln!(w, "$EndEntities")?;
-            let np = coords.len();
+
             writeln!(w, "$Nodes")?;
             if np == 0 {
                 writeln!(w, "0 0 0 0")?;
             } else {
-                writeln!(w, "1 {np} 1 {np}\n2 1 0 {np}")?;
+                writeln!(w, "1 {np} 1 {np}\n{dim} 1 0 {np}")?;
                 for i in 1..=np {
                     writeln!(w, "{i}")?;
                 }
-                for p in &coords {
+                for p in coords.chunks_exact(dim) {
                     write_f64(w, p[0])?;
-                    w.write_all(b" ")?;
-                    write_f64(w, p[1])?;
-                    w.write_all(b" 0\n")?;
+                    for &c in &p[1..] {
+                        w.write_all(b" ")?;
+                        write_f64(w, c)?;
+                    }
+                    w.write_all(if dim == 2 { b" 0\n" } else { b"\n" })?;
                 }
             }
             writeln!(w, "$EndNodes")?;
-            let n_elements = mesh.edges.len() + nt;
+
+            // Element types: line 1, triangle 2, tetrahedron 4.
+            let type_of = |points: usize| [0, 0, 1, 2, 4][points];
+            let n_elements = mesh.markers.len() + n_cells;
             let n_blocks = markers.len() + regions.len();
             writeln!(
                 w,
@@ -916,26 +834,23 @@ pub fn write_msh_2d(path: &Path, mesh: &TriangleMeshOut<'_>) -> Result<(), IoErr
                 u8::from(n_elements > 0)
             )?;
             let mut tag = 0u64;
-            for (s, edges) in edges_of.iter().enumerate() {
-                writeln!(w, "1 {} 1 {}", s + 1, edges.len())?;
-                for &k in edges {
+            // Per block: its entity's dimension, its elements, their nodes (flat) and how many
+            // each has.
+            let blocks = boundary_of
+                .iter()
+                .map(|e| (dim - 1, e, mesh.boundary, dim))
+                .chain(cells_of.iter().map(|e| (dim, e, mesh.cells, dim + 1)));
+            let mut entity = [0usize; 4];
+            for (d, elements, nodes, per) in blocks {
+                entity[d] += 1;
+                writeln!(w, "{d} {} {} {}", entity[d], type_of(per), elements.len())?;
+                for &k in elements {
                     tag += 1;
-                    let [a, b] = mesh.edges[k];
-                    writeln!(w, "{tag} {} {}", u64::from(a) + 1, u64::from(b) + 1)?;
-                }
-            }
-            for (v, triangles) in triangles_of.iter().enumerate() {
-                writeln!(w, "2 {} 2 {}", v + 1, triangles.len())?;
-                for &k in triangles {
-                    tag += 1;
-                    let t = corners(k);
-                    writeln!(
-                        w,
-                        "{tag} {} {} {}",
-                        u64::from(t[0]) + 1,
-                        u64::from(t[1]) + 1,
-                        u64::from(t[2]) + 1
-                    )?;
+                    write!(w, "{tag}")?;
+                    for &v in &nodes[per * k..][..per] {
+                        write!(w, " {}", u64::from(v) + 1)?;
+                    }
+                    w.write_all(b"\n")?;
                 }
             }
             writeln!(w, "$EndElements")

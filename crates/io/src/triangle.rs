@@ -47,8 +47,13 @@ impl TriangleMeshOut<'_> {
         if self.point_markers.is_some_and(|m| m.len() != np) {
             return bad("one point marker per point is needed".into());
         }
-        if self.cell_attributes.is_some_and(|a| a.len() != nt) {
-            return bad("one attribute per triangle is needed".into());
+        if let Some(a) = self.cell_attributes {
+            if a.len() != nt {
+                return bad("one attribute per triangle is needed".into());
+            }
+            if let Some(k) = a.iter().position(|x| !x.is_finite()) {
+                return bad(format!("the attribute of triangle {k} is not finite"));
+            }
         }
         if self.edges.len() != self.edge_markers.len() {
             return bad("one marker per edge is needed".into());
