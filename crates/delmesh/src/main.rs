@@ -73,7 +73,9 @@ struct MeshArgs {
     /// Output file(s), by extension. 2D: .vtu (ParaView), .ele (Triangle .node/.ele/.edge with
     /// markers), .msh (gmsh 4.1, markers and regions as physical groups), .su2 (SU2, boundary
     /// edges as marker_<m>), .svg (a picture). 3D: .vtu (+ X.boundary.vtu), .ele (TetGen .node/.ele/.face),
-    /// .msh (gmsh 4.1), .mesh (Medit), .su2. Repeat for several.
+    /// .msh (gmsh 4.1), .mesh (Medit), .su2. Both: a path named polyMesh (e.g.
+    /// case/constant/polyMesh, its parent folder existing) is an OpenFOAM mesh, a patch per
+    /// marker (2D: one layer of prisms, front and back an empty patch). Repeat for several.
     #[arg(short, long, value_name = "OUT", required = true)]
     output: Vec<PathBuf>,
     /// Boundary recovery method.
@@ -396,10 +398,12 @@ fn mesh(args: &MeshArgs) -> Result<()> {
         );
     };
     for out in &args.output {
-        if !matches!(
-            out.extension().and_then(|e| e.to_str()),
-            Some("vtu" | "ele" | "msh" | "su2" | "svg")
-        ) {
+        if !delmesh_io::is_polymesh(out)
+            && !matches!(
+                out.extension().and_then(|e| e.to_str()),
+                Some("vtu" | "ele" | "msh" | "su2" | "svg")
+            )
+        {
             anyhow::bail!(
                 "{}: unsupported output format (supported: {})",
                 out.display(),
@@ -542,10 +546,12 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
             .and_then(|e| e.to_str())
             .unwrap_or("")
             .to_ascii_lowercase();
-        if !matches!(
-            ext.as_str(),
-            "vtu" | "ele" | "node" | "face" | "msh" | "mesh" | "su2"
-        ) {
+        if !delmesh_io::is_polymesh(out)
+            && !matches!(
+                ext.as_str(),
+                "vtu" | "ele" | "node" | "face" | "msh" | "mesh" | "su2"
+            )
+        {
             anyhow::bail!(
                 "{}: unsupported output format for a 3D mesh (supported: {})",
                 out.display(),
@@ -658,6 +664,12 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
 /// The files `delmesh mesh -o out` may write: the TetGen and Triangle families write three
 /// files beside each other, a 3D `.vtu` its boundary beside it.
 fn mesh_output_files(out: &Path) -> Vec<PathBuf> {
+    if delmesh_io::is_polymesh(out) {
+        return delmesh_io::POLYMESH_FILES
+            .iter()
+            .map(|f| out.join(f))
+            .collect();
+    }
     let ext = out
         .extension()
         .and_then(|e| e.to_str())

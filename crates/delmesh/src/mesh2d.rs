@@ -319,7 +319,8 @@ pub fn plc_from_poly(poly: &PolyFile) -> Plc2 {
 }
 
 /// The output formats of [`MeshRun2::write`], by extension.
-pub const MESH_OUTPUTS: &str = ".vtu, .ele, .msh, .su2, .svg";
+pub const MESH_OUTPUTS: &str =
+    ".vtu, .ele, .msh, .su2, .svg, or a directory named polyMesh (OpenFOAM)";
 
 impl MeshRun2 {
     /// Writes the mesh to `out`, the format chosen by its extension: `.vtu` (cell data `region`,
@@ -327,7 +328,9 @@ impl MeshRun2 {
     /// `X.edge` with boundary markers and region attributes, numbered from 1), `.msh` (gmsh 4.1:
     /// boundary edges and triangles in physical groups by marker and region), `.su2` (the SU2
     /// solver's mesh, the boundary edges under `MARKER_TAG= marker_<m>` per marker) or `.svg` (a
-    /// picture). Returns the files written.
+    /// picture); a path named `polyMesh` is an OpenFOAM mesh directory (one layer of prisms, the
+    /// boundary edges in patches `marker_<m>`, see [`delmesh_io::write_foam_2d`]). Returns the
+    /// files written.
     ///
     /// # Errors
     /// An unsupported extension, or a file that cannot be written.
@@ -335,6 +338,19 @@ impl MeshRun2 {
         let a = &self.arrays;
         let coords: Vec<f64> = a.coords.iter().flatten().copied().collect();
         let cells: Vec<u32> = a.triangles.iter().flatten().copied().collect();
+        if delmesh_io::is_polymesh(out) {
+            return Ok(delmesh_io::write_foam_2d(
+                out,
+                &delmesh_io::TriangleMeshOut {
+                    coords: &coords,
+                    triangles: &cells,
+                    point_markers: None,
+                    cell_attributes: Some(&a.regions),
+                    edges: &a.edges,
+                    edge_markers: &a.edge_markers,
+                },
+            )?);
+        }
         let ext = out
             .extension()
             .and_then(|e| e.to_str())

@@ -1206,7 +1206,8 @@ impl MeshRun3 {
 pub const SURFACE_INPUTS: &str = ".smesh, .poly (3D), .off, .stl, .obj, .ply, .mesh, .msh";
 
 /// The output formats of [`MeshRun3::write`], by extension.
-pub const MESH3_OUTPUTS: &str = ".vtu, .ele (.node/.ele/.face), .msh, .mesh, .su2";
+pub const MESH3_OUTPUTS: &str =
+    ".vtu, .ele (.node/.ele/.face), .msh, .mesh, .su2, or a directory named polyMesh (OpenFOAM)";
 
 /// Whether `path` names a 3D surface input by its extension (a `.poly` file is decided by its
 /// contents, see [`read_plc3`]).
@@ -1284,7 +1285,8 @@ impl MeshRun3 {
     /// `.vtu` (tetrahedra with cell data `region`, and `X.boundary.vtu` with the boundary
     /// triangles and their `marker`), `.ele` (TetGen's `X.node`, `X.ele`, `X.face` with markers
     /// and region attributes, numbered from 1), `.msh` (gmsh 4.1 with physical groups),
-    /// `.mesh` (Medit), `.su2`. Returns the files written.
+    /// `.mesh` (Medit), `.su2`; a path named `polyMesh` is an OpenFOAM mesh directory (a patch
+    /// per marker, see [`delmesh_io::write_foam`]). Returns the files written.
     ///
     /// # Errors
     /// An unsupported extension, or a file that cannot be written.
@@ -1304,6 +1306,9 @@ impl MeshRun3 {
             point_markers: Some(&a.point_markers),
             marker_names: &names,
         };
+        if delmesh_io::is_polymesh(out) {
+            return Ok(delmesh_io::write_foam(out, &mesh)?);
+        }
         match extension(out).as_str() {
             "vtu" => {
                 let spacing: Vec<f64> = a

@@ -579,6 +579,7 @@ const SQUARE_POLY: &str = "# square with a hole\n\
 fn mesh_a_poly_file_to_every_format() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("sq.poly"), SQUARE_POLY).unwrap();
+    std::fs::create_dir(dir.path().join("foam")).unwrap();
     let out = delmesh(
         dir.path(),
         &[
@@ -594,6 +595,8 @@ fn mesh_a_poly_file_to_every_format() {
             "m.su2",
             "-o",
             "m.msh",
+            "-o",
+            "foam/polyMesh",
             "--report",
             "r.json",
             "--validate",
@@ -692,6 +695,22 @@ fn mesh_a_poly_file_to_every_format() {
         text.contains("1 1 \"marker_1\"\n1 2 \"marker_2\"\n"),
         "{text}"
     );
+    // OpenFOAM: a prism per triangle; the boundary edges of each marker as faces of its patch,
+    // the two planes as the empty patch.
+    let foam = std::fs::read_to_string(dir.path().join("foam/polyMesh/boundary")).unwrap();
+    for marker in [1, 2] {
+        let n = edges[1..].iter().filter(|e| e[3] == marker).count();
+        let at = foam.find(&format!("marker_{marker}\n")).expect("the patch");
+        assert!(
+            foam[at..].contains(&format!("nFaces          {n};")),
+            "{foam}"
+        );
+    }
+    let planes = format!(
+        "frontAndBack\n    {{\n        type            empty;\n        nFaces          {};",
+        2 * ele[0][0]
+    );
+    assert!(foam.contains(&planes), "{foam}");
 
     // The mesh's own spacing field drives a second run (a background mesh), and a previous
     // solution field drives adaptation.
@@ -834,6 +853,7 @@ fn cube_off(scale: f64) -> String {
 fn mesh_a_surface_to_every_3d_format() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("cube.off"), cube_off(1.0)).unwrap();
+    std::fs::create_dir_all(dir.path().join("case/constant")).unwrap();
     let summary = ok(&delmesh(
         dir.path(),
         &[
@@ -849,6 +869,8 @@ fn mesh_a_surface_to_every_3d_format() {
             "m.mesh",
             "-o",
             "m.su2",
+            "-o",
+            "case/constant/polyMesh",
             "--alpha",
             "0.4",
             "--report",
@@ -878,6 +900,23 @@ fn mesh_a_surface_to_every_3d_format() {
     let report = std::fs::read_to_string(dir.path().join("r.json")).unwrap();
     assert!(report.contains("\"tetrahedra\": "), "{report}");
     assert!(report.contains("\"slivers\""), "{report}");
+    // OpenFOAM: a cell per tetrahedron, the faces of the 12 input triangles' pieces in one
+    // patch (the cube has one marker), four faces per cell counted once or twice.
+    let foam = dir.path().join("case/constant/polyMesh");
+    let owner = std::fs::read_to_string(foam.join("owner")).unwrap();
+    let note = format!("nCells:{n_tets} ");
+    assert!(owner.contains(&note), "{owner}");
+    let face = std::fs::read_to_string(dir.path().join("m.face")).unwrap();
+    let n_faces: usize = face.split_whitespace().next().unwrap().parse().unwrap();
+    let boundary = std::fs::read_to_string(foam.join("boundary")).unwrap();
+    assert!(
+        boundary.contains(&format!("nFaces          {n_faces};")),
+        "{boundary}"
+    );
+    assert!(
+        owner.contains(&format!("nInternalFaces:{}\"", (4 * n_tets - n_faces) / 2)),
+        "{owner}"
+    );
 }
 
 #[test]

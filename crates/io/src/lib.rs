@@ -24,6 +24,7 @@
 //! | Medit `.mesh` | [`read_medit`], [`parse_medit`] (surface and tetrahedra) | [`write_medit`] |
 //! | gmsh `.msh` 2.2 / 4.1, ASCII and binary | [`read_msh`], [`parse_msh`], [`parse_msh_bytes`] (surface and tetrahedra) | [`write_msh`], 2D [`write_msh_2d`] (4.1 ASCII) |
 //! | SU2 `.su2` (3D, 2D) | | [`write_su2`], [`write_su2_2d`] |
+//! | OpenFOAM `constant/polyMesh` (3D; 2D as one layer of prisms) | | [`write_foam`], [`write_foam_2d`] |
 //! | TetGen `.node/.ele/.face` with markers and regions | | [`write_tetgen_mesh`] |
 //!
 //! [`read_points`] picks a point reader, [`read_surface`] a surface reader and
@@ -56,6 +57,7 @@
 
 mod atomic;
 mod error;
+mod foam;
 mod medit;
 mod model;
 mod msh;
@@ -81,6 +83,7 @@ mod xyz;
 
 pub use atomic::write_atomic;
 pub use error::IoError;
+pub use foam::{is_polymesh, write_foam, write_foam_2d, POLYMESH_FILES};
 pub use medit::{parse_medit, read_medit, write_medit};
 pub use model::{PointSet, SimplexMesh};
 pub use msh::{parse_msh, parse_msh_bytes, read_msh, write_msh, write_msh_2d};
