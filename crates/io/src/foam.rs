@@ -283,7 +283,8 @@ fn zones(regions: Option<&[f64]>) -> Vec<(String, Vec<u32>)> {
 /// Writes a tetrahedral mesh as an OpenFOAM polyMesh in the directory `dir` (made if missing;
 /// conventionally `case/constant/polyMesh`): `points`, `faces`, `owner`, `neighbour`,
 /// `boundary`, and `cellZones` when the tetrahedra have two or more regions. Each file is
-/// written atomically. Returns the files written.
+/// written atomically; zone files of an earlier mesh in `dir` are removed. Returns the files
+/// written.
 ///
 /// # Errors
 /// Inconsistent arrays, a face shared by three tetrahedra, a marker name OpenFOAM cannot take,
@@ -566,6 +567,15 @@ fn write_poly_mesh(dir: &Path, mesh: &PolyMesh) -> Result<Vec<PathBuf>, IoError>
     });
     for d in done {
         d?;
+    }
+    // Zones number cells, faces and points: a previous mesh's in the directory would name
+    // this one's wrongly, and every solver reads them. (OpenFOAM's own mesh writers remove
+    // them too.)
+    for stale in ["cellZones", "faceZones", "pointZones"] {
+        let path = dir.join(stale);
+        if !paths.contains(&path) && path.is_file() {
+            std::fs::remove_file(&path).map_err(|e| IoError::io(&path, e))?;
+        }
     }
     Ok(paths)
 }

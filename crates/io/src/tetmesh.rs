@@ -156,8 +156,12 @@ pub(crate) fn sibling(path: &Path, strip: &[&str], ext: &str) -> PathBuf {
 /// Writes a tetrahedral mesh, choosing the format from the extension of `path`: `.vtu`
 /// ([`crate::write_tet_mesh_vtu`], two files), `.node`/`.ele`/`.face` (the TetGen family,
 /// [`crate::write_tetgen_mesh`], numbered from 1), `.msh` ([`crate::write_msh`], gmsh 4.1),
-/// `.mesh` ([`crate::write_medit`]), `.su2` ([`crate::write_su2`]). Returns the files written.
+/// `.mesh` ([`crate::write_medit`]), `.su2` ([`crate::write_su2`]); a path named `polyMesh`
+/// is an OpenFOAM mesh directory ([`crate::write_foam`]). Returns the files written.
 pub fn write_tet_mesh(path: &Path, mesh: &TetMeshOut<'_>) -> Result<Vec<PathBuf>, IoError> {
+    if crate::is_polymesh(path) {
+        return crate::write_foam(path, mesh);
+    }
     let ext = path
         .extension()
         .and_then(|e| e.to_str())

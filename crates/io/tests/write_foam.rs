@@ -284,8 +284,14 @@ fn faces_without_a_marker_go_to_default_faces_and_one_region_has_no_zones() {
         regions: Some(&[3.0; 6]),
         ..cube()
     };
+    // Over a mesh with zones: its zone files go, since they would number these cells.
+    write_foam(&dir, &cube()).unwrap();
+    std::fs::write(dir.join("faceZones"), "old").unwrap();
+    std::fs::write(dir.join("notes.txt"), "the user's").unwrap();
     let written = write_foam(&dir, &mesh).unwrap();
     assert_eq!(written.len(), 5, "{written:?}");
+    assert!(!dir.join("cellZones").exists() && !dir.join("faceZones").exists());
+    assert!(dir.join("notes.txt").exists());
     let m = read_foam(&dir);
     check(&m);
     let last = m.patches.last().unwrap();

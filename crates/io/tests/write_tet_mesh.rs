@@ -330,6 +330,7 @@ fn write_tet_mesh_picks_the_format() {
         ("c.msh", 1),
         ("d.mesh", 1),
         ("e.su2", 1),
+        ("case/constant/polyMesh", 6),
     ] {
         let written = write_tet_mesh(&dir.path().join(name), &cube()).unwrap();
         assert_eq!(written.len(), n_files, "{name}");
