@@ -919,6 +919,72 @@ fn mesh_a_surface_to_every_3d_format() {
     );
 }
 
+/// The unit cube as an ASCII STL of three solids: `inlet` (x = 0), `outlet` (x = 1), `walls`.
+fn cube_stl_solids() -> String {
+    let corner = |i: usize| [i & 1, (i >> 1) & 1, (i >> 2) & 1];
+    let faces: [([usize; 3], &str); 12] = [
+        ([0, 4, 6], "inlet"),
+        ([0, 6, 2], "inlet"),
+        ([1, 7, 5], "outlet"),
+        ([1, 3, 7], "outlet"),
+        ([0, 5, 4], "walls"),
+        ([0, 1, 5], "walls"),
+        ([2, 6, 7], "walls"),
+        ([2, 7, 3], "walls"),
+        ([0, 2, 3], "walls"),
+        ([0, 3, 1], "walls"),
+        ([4, 7, 6], "walls"),
+        ([4, 5, 7], "walls"),
+    ];
+    let mut s = String::new();
+    for solid in ["inlet", "outlet", "walls"] {
+        s.push_str(&format!("solid {solid}\n"));
+        for (f, _) in faces.iter().filter(|(_, n)| *n == solid) {
+            s.push_str(" facet normal 0 0 0\n  outer loop\n");
+            for &v in f {
+                let [x, y, z] = corner(v);
+                s.push_str(&format!("   vertex {x} {y} {z}\n"));
+            }
+            s.push_str("  endloop\n endfacet\n");
+        }
+        s.push_str(&format!("endsolid {solid}\n"));
+    }
+    s
+}
+
+#[test]
+fn an_stl_of_named_solids_gives_openfoam_patches_of_those_names() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("duct.stl"), cube_stl_solids()).unwrap();
+    std::fs::create_dir_all(dir.path().join("case/constant")).unwrap();
+    ok(&delmesh(
+        dir.path(),
+        &[
+            "mesh",
+            "duct.stl",
+            "-o",
+            "case/constant/polyMesh",
+            "--alpha",
+            "0.3",
+        ],
+    ));
+    let boundary =
+        std::fs::read_to_string(dir.path().join("case/constant/polyMesh/boundary")).unwrap();
+    let names: Vec<&str> = boundary
+        .lines()
+        .filter(|l| l.starts_with("    ") && !l.starts_with("     ") && !l.contains(';'))
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && *l != "{" && *l != "}")
+        .collect();
+    assert_eq!(names, ["inlet", "outlet", "walls"], "{boundary}");
+    // No polyMesh folder in a folder that does not exist: refused before meshing.
+    let msg = fails(&delmesh(
+        dir.path(),
+        &["mesh", "duct.stl", "-o", "nocase/constant/polyMesh"],
+    ));
+    assert!(msg.contains("nocase/constant"), "{msg}");
+}
+
 #[test]
 fn mesh_3d_input_errors_name_the_file_and_facets() {
     let dir = tempfile::tempdir().unwrap();
