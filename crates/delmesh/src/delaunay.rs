@@ -80,8 +80,17 @@ impl OutputFormat {
 /// only when it comes to writing its result.
 ///
 /// # Errors
-/// [`Error::Io`] naming `out` if its parent folder is missing or not a folder.
+/// [`Error::Io`] naming `out` if its parent folder is missing or not a folder, or if `out`
+/// names a polyMesh folder that is a file.
 pub fn check_output_dir(out: &Path) -> Result<(), Error> {
+    // An OpenFOAM polyMesh output is itself a folder, made if missing.
+    if delmesh_io::is_polymesh(out) && out.exists() && !out.is_dir() {
+        return Err(Error::Io(delmesh_io::IoError::InvalidInput {
+            file: out.to_path_buf(),
+            message: "an OpenFOAM mesh is written into a folder named polyMesh, and this is a file"
+                .into(),
+        }));
+    }
     let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) else {
         return Ok(()); // the current folder
     };

@@ -983,6 +983,20 @@ fn an_stl_of_named_solids_gives_openfoam_patches_of_those_names() {
         &["mesh", "duct.stl", "-o", "nocase/constant/polyMesh"],
     ));
     assert!(msg.contains("nocase/constant"), "{msg}");
+    // Nor over a file named polyMesh, which is kept.
+    std::fs::write(dir.path().join("polyMesh"), "the user's").unwrap();
+    let msg = fails(&delmesh(
+        dir.path(),
+        &["mesh", "duct.stl", "-o", "polyMesh"],
+    ));
+    assert!(
+        msg.contains("polyMesh") && msg.contains("is a file"),
+        "{msg}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("polyMesh")).unwrap(),
+        "the user's"
+    );
 }
 
 #[test]

@@ -459,6 +459,12 @@ type Body<'a> = Box<dyn Fn(&mut dyn Write) -> std::io::Result<()> + Send + Sync 
 /// Writes the files of `mesh` into `dir`, each atomically, side by side on threads (the files
 /// are independent, and formatting numbers is the cost).
 fn write_poly_mesh(dir: &Path, mesh: &PolyMesh) -> Result<Vec<PathBuf>, IoError> {
+    if dir.exists() && !dir.is_dir() {
+        return Err(IoError::invalid(
+            dir,
+            "an OpenFOAM mesh is written into a folder, and this is a file",
+        ));
+    }
     std::fs::create_dir_all(dir).map_err(|e| IoError::io(dir, e))?;
     let note = format!(
         "nPoints:{} nCells:{} nFaces:{} nInternalFaces:{}",

@@ -381,4 +381,9 @@ fn bad_names_and_non_manifold_faces_are_refused_before_writing() {
     let e = write_foam(&dir, &mesh).unwrap_err();
     assert!(e.to_string().contains("cells 0, 1, 2 share a face"), "{e}");
     assert!(!dir.exists());
+    // A file where the folder would be is kept.
+    std::fs::write(&dir, "the user's").unwrap();
+    let e = write_foam(&dir, &cube()).unwrap_err();
+    assert!(e.to_string().contains("this is a file"), "{e}");
+    assert_eq!(std::fs::read_to_string(&dir).unwrap(), "the user's");
 }
