@@ -259,6 +259,19 @@ pub fn mesh_demo_setup(name: &str) -> Result<(Plc2, MeshOptions2), Error> {
     Ok((plc, options))
 }
 
+/// The `delmesh mesh` options that give 2D demo `name`'s mesh from the `.poly` file it writes
+/// (with `--points` and the points file it writes beside it, for `figure10a`); `None` where
+/// the demo's spacing comes from a background mesh the command line would need as a file.
+pub fn cli_flags(name: &str) -> Option<&'static str> {
+    match name {
+        "figure7" => Some(" --recovery a-priori"),
+        "figure8" => Some(" --no-points --no-smoothing"),
+        "figure10a" => Some(" --no-points"),
+        "figure10b" | "figure11" => Some(""),
+        _ => None,
+    }
+}
+
 fn mesh_demo(name: &str, dir: &Path) -> Result<DemoOutput, Error> {
     let (plc, options) = mesh_demo_setup(name)?;
     let mut written = Vec::new();
@@ -301,10 +314,28 @@ fn mesh_demo(name: &str, dir: &Path) -> Result<DemoOutput, Error> {
     let run = mesh_plc(&plc, &options)?;
     written.extend(run.write(&dir.join(format!("{name}.vtu")))?);
     written.extend(run.write(&dir.join(format!("{name}.svg")))?);
+    // The domain, for `delmesh mesh` to mesh again with other options or into other formats.
+    let poly = dir.join(format!("{name}.poly"));
+    delmesh_io::write_poly(&poly, &crate::mesh2d::poly_from_plc(&plc))?;
+    written.push(poly.clone());
+    let mut points_flag = String::new();
+    if !options.extra_points.is_empty() {
+        let path = dir.join(format!("{name}-points.node"));
+        let coords: Vec<f64> = options.extra_points.iter().flatten().copied().collect();
+        delmesh_io::write_node(&path, 2, &coords, 1)?;
+        points_flag = format!(" --points {}", path.display());
+        written.push(path);
+    }
     let total: f64 = run.timings.iter().map(|t| t.1).sum();
+    let again = cli_flags(name).map_or_else(String::new, |flags| {
+        format!(
+            "\nthe same mesh from the command line: delmesh mesh {}{flags}{points_flag} -o {name}.vtu",
+            poly.display()
+        )
+    });
     Ok(DemoOutput {
         summary: format!(
-            "{name}: {} points, {} triangles in {total:.6} s",
+            "{name}: {} points, {} triangles in {total:.6} s{again}",
             run.arrays.coords.len(),
             run.arrays.triangles.len()
         ),

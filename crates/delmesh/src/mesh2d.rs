@@ -318,6 +318,33 @@ pub fn plc_from_poly(poly: &PolyFile) -> Plc2 {
     }
 }
 
+/// The `.poly` contents of a [`Plc2`], numbered as it is (the inverse of [`plc_from_poly`]):
+/// [`delmesh_io::write_poly`] writes a file that reads back as the same problem.
+pub fn poly_from_plc(plc: &Plc2) -> PolyFile {
+    PolyFile {
+        points: delmesh_io::PointSet {
+            dim: 2,
+            coords: plc.points.iter().flatten().copied().collect(),
+            first_index: plc.first_index,
+            attributes: Vec::new(),
+            markers: (!plc.point_markers.is_empty()).then(|| plc.point_markers.clone()),
+        },
+        segments: plc.segments.iter().map(|s| [s.a, s.b]).collect(),
+        segment_markers: plc.segments.iter().map(|s| s.marker).collect(),
+        holes: plc.holes.clone(),
+        regions: plc
+            .regions
+            .iter()
+            .map(|r| delmesh_io::PolyRegion {
+                point: r.point,
+                attribute: r.attribute,
+                max_area: r.max_area,
+            })
+            .collect(),
+        first_index: plc.first_index,
+    }
+}
+
 /// The output formats of [`MeshRun2::write`], by extension.
 pub const MESH_OUTPUTS: &str =
     ".vtu, .ele, .msh, .su2, .svg, or a directory named polyMesh (OpenFOAM)";

@@ -819,6 +819,26 @@ fn demo_figure8_writes_the_mesh_before_and_after_recovery() {
     }
 }
 
+#[test]
+fn a_2d_demo_writes_its_domain_and_the_command_that_meshes_it_the_same() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["figure7", "figure8", "figure10a", "figure10b"] {
+        let out = delmesh(dir.path(), &["demo", name, "-o", "d"]);
+        let err = ok(&out);
+        let line = err
+            .lines()
+            .find_map(|l| l.strip_prefix("the same mesh from the command line: delmesh "))
+            .unwrap_or_else(|| panic!("{name}: {err}"));
+        let mut args: Vec<&str> = line.split_whitespace().collect();
+        let o = args.iter().position(|&a| a == "-o").unwrap();
+        args[o + 1] = "again.vtu";
+        ok(&delmesh(dir.path(), &args));
+        let demo = std::fs::read(dir.path().join("d").join(format!("{name}.vtu"))).unwrap();
+        let again = std::fs::read(dir.path().join("again.vtu")).unwrap();
+        assert!(demo == again, "{name}: {line}");
+    }
+}
+
 /// The surface of the unit cube, 2 triangles per side, counter-clockwise seen from outside, as
 /// OFF text.
 fn cube_off(scale: f64) -> String {
