@@ -155,7 +155,9 @@ pub const AEROFOIL_POINTS: usize = 760;
 /// What a demo produced.
 #[derive(Clone, Debug)]
 pub struct DemoOutput {
-    /// One-line summary (points, cells, time).
+    /// Summary: points, cells, time; for the 2D mesh demos whose run the command line can
+    /// repeat, a second line with the `delmesh mesh` command that meshes the written domain
+    /// the same.
     pub summary: String,
     /// Text to print (Table 1, or a mesh run's passes and quality), if the demo has any.
     pub table: Option<String>,
