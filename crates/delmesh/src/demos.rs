@@ -155,7 +155,7 @@ pub const AEROFOIL_POINTS: usize = 760;
 /// What a demo produced.
 #[derive(Clone, Debug)]
 pub struct DemoOutput {
-    /// Summary: points, cells, time; for the 2D mesh demos whose run the command line can
+    /// Summary: points, cells, time; for the mesh demos whose run the command line can
     /// repeat, a second line with the `delmesh mesh` command that meshes the written domain
     /// the same.
     pub summary: String,
@@ -381,10 +381,39 @@ pub fn mesh3_demo_setup(name: &str) -> Result<(Plc3, MeshOptions3), Error> {
     Ok((plc, options))
 }
 
+/// The `delmesh mesh` options that give 3D demo `name`'s mesh from the `.smesh` file it
+/// writes (with `--points` and the points file it writes beside it, for `table2`).
+pub fn cli_flags3(name: &str) -> Option<String> {
+    match name {
+        "table2" => Some(" --no-points".into()),
+        "figure9" => Some(format!(" --alpha {FIGURE9_ALPHA}")),
+        "sphere" | "cubic-hole" | "two-bodies" | "blocks" => Some(String::new()),
+        _ => None,
+    }
+}
+
 fn mesh3_demo(name: &str, dir: &Path) -> Result<DemoOutput, Error> {
     let (plc, options) = mesh3_demo_setup(name)?;
     let run = mesh_plc3(&plc, &options)?;
-    let written = run.write(&dir.join(format!("{name}.vtu")))?;
+    let mut written = run.write(&dir.join(format!("{name}.vtu")))?;
+    // The domain, for `delmesh mesh` to mesh again with other options or into other formats.
+    let smesh = dir.join(format!("{name}.smesh"));
+    delmesh_io::write_smesh(&smesh, &crate::mesh3d::surface_from_plc3(&plc))?;
+    written.push(smesh.clone());
+    let mut points_flag = String::new();
+    if !options.extra_points.is_empty() {
+        let path = dir.join(format!("{name}-points.node"));
+        let coords: Vec<f64> = options.extra_points.iter().flatten().copied().collect();
+        delmesh_io::write_node(&path, 3, &coords, 1)?;
+        points_flag = format!(" --points {}", path.display());
+        written.push(path);
+    }
+    let again = cli_flags3(name).map_or_else(String::new, |flags| {
+        format!(
+            "\nthe same mesh from the command line: delmesh mesh {}{flags}{points_flag} -o {name}.vtu",
+            smesh.display()
+        )
+    });
     let total: f64 = run.timings.iter().map(|t| t.1).sum();
     let mut table = run.summary();
     if name == "table2" {
@@ -392,7 +421,7 @@ fn mesh3_demo(name: &str, dir: &Path) -> Result<DemoOutput, Error> {
     }
     Ok(DemoOutput {
         summary: format!(
-            "{name}: {} points, {} tetrahedra in {total:.6} s",
+            "{name}: {} points, {} tetrahedra in {total:.6} s{again}",
             run.arrays.coords.len(),
             run.arrays.tets.len()
         ),

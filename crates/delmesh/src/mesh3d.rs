@@ -1209,6 +1209,41 @@ pub const SURFACE_INPUTS: &str = ".smesh, .poly (3D), .off, .stl, .obj, .ply, .m
 pub const MESH3_OUTPUTS: &str =
     ".vtu, .ele (.node/.ele/.face), .msh, .mesh, .su2, or a directory named polyMesh (OpenFOAM)";
 
+/// The surface of a [`Plc3`] as a file's contents (for [`delmesh_io::write_smesh`]): each
+/// triangle a facet of its own, with its marker; holes, regions and marker names as they are,
+/// numbered from 1. (A facet made of several triangles becomes several facets: the demos'
+/// meshes are the same either way, tested.)
+pub fn surface_from_plc3(plc: &Plc3) -> delmesh_io::SurfaceFile {
+    delmesh_io::SurfaceFile {
+        points: plc.points.clone(),
+        point_markers: (!plc.point_markers.is_empty()).then(|| plc.point_markers.clone()),
+        facets: plc
+            .triangles
+            .iter()
+            .map(|t| delmesh_io::SurfaceFacet {
+                polygons: vec![t.v.to_vec()],
+                holes: Vec::new(),
+                marker: t.marker,
+                line: 0,
+            })
+            .collect(),
+        holes: plc.holes.clone(),
+        regions: plc
+            .regions
+            .iter()
+            .map(|r| delmesh_io::SurfaceRegion {
+                point: r.point,
+                attribute: r.attribute,
+                max_volume: r.max_volume,
+            })
+            .collect(),
+        marker_names: plc.marker_names.clone(),
+        tetrahedra: Vec::new(),
+        tetrahedron_regions: Vec::new(),
+        first_index: 1,
+    }
+}
+
 /// Whether `path` names a 3D surface input by its extension (a `.poly` file is decided by its
 /// contents, see [`read_plc3`]).
 pub fn is_surface_input(path: &Path) -> bool {

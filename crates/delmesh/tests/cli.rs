@@ -820,9 +820,17 @@ fn demo_figure8_writes_the_mesh_before_and_after_recovery() {
 }
 
 #[test]
-fn a_2d_demo_writes_its_domain_and_the_command_that_meshes_it_the_same() {
+fn a_mesh_demo_writes_its_domain_and_the_command_that_meshes_it_the_same() {
     let dir = tempfile::tempdir().unwrap();
-    for name in ["figure7", "figure8", "figure10a", "figure10b"] {
+    for name in [
+        "figure7",
+        "figure8",
+        "figure10a",
+        "figure10b",
+        "table2",
+        "cubic-hole",
+        "blocks",
+    ] {
         let out = delmesh(dir.path(), &["demo", name, "-o", "d"]);
         let err = ok(&out);
         let line = err
