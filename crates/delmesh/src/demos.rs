@@ -264,14 +264,44 @@ pub fn mesh_demo_setup(name: &str) -> Result<(Plc2, MeshOptions2), Error> {
 /// The `delmesh mesh` options that give 2D demo `name`'s mesh from the `.poly` file it writes
 /// (with `--points` and the points file it writes beside it, for `figure10a`); `None` where
 /// the demo's spacing comes from a background mesh the command line would need as a file.
-pub fn cli_flags(name: &str) -> Option<&'static str> {
-    match name {
-        "figure7" => Some(" --recovery a-priori"),
-        "figure8" => Some(" --no-points --no-smoothing"),
-        "figure10a" => Some(" --no-points"),
-        "figure10b" | "figure11" => Some(""),
-        _ => None,
+pub fn cli_flags(name: &str) -> Option<String> {
+    let flags = match name {
+        "figure7" => " --recovery a-priori",
+        "figure8" => " --no-points --no-smoothing",
+        "figure10a" => " --no-points",
+        "figure10b" | "figure11" => "",
+        _ => return None,
+    };
+    Some(flags.into())
+}
+
+/// After demo `name` wrote its domain to `domain`: writes its extra points (`dim`
+/// coordinates each, if any) as `NAME-points.node`, adds both to `written`, and returns the
+/// summary's line with the `delmesh mesh` command that meshes them the same (`flags`; empty
+/// if the command line cannot).
+fn same_from_cli(
+    dir: &Path,
+    name: &str,
+    domain: &Path,
+    dim: usize,
+    points: &[f64],
+    flags: Option<String>,
+    written: &mut Vec<PathBuf>,
+) -> Result<String, Error> {
+    written.push(domain.to_path_buf());
+    let mut points_flag = String::new();
+    if !points.is_empty() {
+        let path = dir.join(format!("{name}-points.node"));
+        delmesh_io::write_node(&path, dim, points, 1)?;
+        points_flag = format!(" --points {}", path.display());
+        written.push(path);
     }
+    Ok(flags.map_or_else(String::new, |flags| {
+        format!(
+            "\nthe same mesh from the command line: delmesh mesh {}{flags}{points_flag} -o {name}.vtu",
+            domain.display()
+        )
+    }))
 }
 
 fn mesh_demo(name: &str, dir: &Path) -> Result<DemoOutput, Error> {
@@ -319,22 +349,9 @@ fn mesh_demo(name: &str, dir: &Path) -> Result<DemoOutput, Error> {
     // The domain, for `delmesh mesh` to mesh again with other options or into other formats.
     let poly = dir.join(format!("{name}.poly"));
     delmesh_io::write_poly(&poly, &crate::mesh2d::poly_from_plc(&plc))?;
-    written.push(poly.clone());
-    let mut points_flag = String::new();
-    if !options.extra_points.is_empty() {
-        let path = dir.join(format!("{name}-points.node"));
-        let coords: Vec<f64> = options.extra_points.iter().flatten().copied().collect();
-        delmesh_io::write_node(&path, 2, &coords, 1)?;
-        points_flag = format!(" --points {}", path.display());
-        written.push(path);
-    }
+    let points: Vec<f64> = options.extra_points.iter().flatten().copied().collect();
+    let again = same_from_cli(dir, name, &poly, 2, &points, cli_flags(name), &mut written)?;
     let total: f64 = run.timings.iter().map(|t| t.1).sum();
-    let again = cli_flags(name).map_or_else(String::new, |flags| {
-        format!(
-            "\nthe same mesh from the command line: delmesh mesh {}{flags}{points_flag} -o {name}.vtu",
-            poly.display()
-        )
-    });
     Ok(DemoOutput {
         summary: format!(
             "{name}: {} points, {} triangles in {total:.6} s{again}",
@@ -399,21 +416,16 @@ fn mesh3_demo(name: &str, dir: &Path) -> Result<DemoOutput, Error> {
     // The domain, for `delmesh mesh` to mesh again with other options or into other formats.
     let smesh = dir.join(format!("{name}.smesh"));
     delmesh_io::write_smesh(&smesh, &crate::mesh3d::surface_from_plc3(&plc))?;
-    written.push(smesh.clone());
-    let mut points_flag = String::new();
-    if !options.extra_points.is_empty() {
-        let path = dir.join(format!("{name}-points.node"));
-        let coords: Vec<f64> = options.extra_points.iter().flatten().copied().collect();
-        delmesh_io::write_node(&path, 3, &coords, 1)?;
-        points_flag = format!(" --points {}", path.display());
-        written.push(path);
-    }
-    let again = cli_flags3(name).map_or_else(String::new, |flags| {
-        format!(
-            "\nthe same mesh from the command line: delmesh mesh {}{flags}{points_flag} -o {name}.vtu",
-            smesh.display()
-        )
-    });
+    let points: Vec<f64> = options.extra_points.iter().flatten().copied().collect();
+    let again = same_from_cli(
+        dir,
+        name,
+        &smesh,
+        3,
+        &points,
+        cli_flags3(name),
+        &mut written,
+    )?;
     let total: f64 = run.timings.iter().map(|t| t.1).sum();
     let mut table = run.summary();
     if name == "table2" {

@@ -365,18 +365,18 @@ impl MeshRun2 {
         let a = &self.arrays;
         let coords: Vec<f64> = a.coords.iter().flatten().copied().collect();
         let cells: Vec<u32> = a.triangles.iter().flatten().copied().collect();
+        // What the Triangle family, gmsh, SU2 and OpenFOAM writers take (each writes what its
+        // format holds).
+        let mesh = delmesh_io::TriangleMeshOut {
+            coords: &coords,
+            triangles: &cells,
+            point_markers: Some(&a.point_markers),
+            cell_attributes: Some(&a.regions),
+            edges: &a.edges,
+            edge_markers: &a.edge_markers,
+        };
         if delmesh_io::is_polymesh(out) {
-            return Ok(delmesh_io::write_foam_2d(
-                out,
-                &delmesh_io::TriangleMeshOut {
-                    coords: &coords,
-                    triangles: &cells,
-                    point_markers: None,
-                    cell_attributes: Some(&a.regions),
-                    edges: &a.edges,
-                    edge_markers: &a.edge_markers,
-                },
-            )?);
+            return Ok(delmesh_io::write_foam_2d(out, &mesh)?);
         }
         let ext = out
             .extension()
@@ -385,7 +385,7 @@ impl MeshRun2 {
             .to_ascii_lowercase();
         match ext.as_str() {
             "vtu" => {
-                let mesh = delmesh_io::SimplexMesh {
+                let simplices = delmesh_io::SimplexMesh {
                     dim: 2,
                     coords: &coords,
                     cells: &cells,
@@ -406,50 +406,19 @@ impl MeshRun2 {
                 let quality = min_angles(a);
                 delmesh_io::write_vtu(
                     out,
-                    &mesh,
+                    &simplices,
                     &[("marker", &markers), ("spacing", &spacing)],
                     &[("region", &a.regions), ("min_angle", &quality)],
                 )?;
                 Ok(vec![out.to_path_buf()])
             }
-            "ele" => Ok(delmesh_io::write_triangle_family(
-                out,
-                &delmesh_io::TriangleMeshOut {
-                    coords: &coords,
-                    triangles: &cells,
-                    point_markers: Some(&a.point_markers),
-                    cell_attributes: Some(&a.regions),
-                    edges: &a.edges,
-                    edge_markers: &a.edge_markers,
-                },
-                1,
-            )?),
+            "ele" => Ok(delmesh_io::write_triangle_family(out, &mesh, 1)?),
             "msh" => {
-                delmesh_io::write_msh_2d(
-                    out,
-                    &delmesh_io::TriangleMeshOut {
-                        coords: &coords,
-                        triangles: &cells,
-                        point_markers: None,
-                        cell_attributes: Some(&a.regions),
-                        edges: &a.edges,
-                        edge_markers: &a.edge_markers,
-                    },
-                )?;
+                delmesh_io::write_msh_2d(out, &mesh)?;
                 Ok(vec![out.to_path_buf()])
             }
             "su2" => {
-                delmesh_io::write_su2_2d(
-                    out,
-                    &delmesh_io::TriangleMeshOut {
-                        coords: &coords,
-                        triangles: &cells,
-                        point_markers: None,
-                        cell_attributes: None,
-                        edges: &a.edges,
-                        edge_markers: &a.edge_markers,
-                    },
-                )?;
+                delmesh_io::write_su2_2d(out, &mesh)?;
                 Ok(vec![out.to_path_buf()])
             }
             "svg" => {

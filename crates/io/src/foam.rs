@@ -183,17 +183,38 @@ fn in_order(
     (faces, owner, neighbour, counts)
 }
 
-/// The distinct markers of the boundary faces that have one (`marker` by key), sorted, and
-/// whether some boundary face has none.
-fn boundary_markers(boundary: &[(u128, u32)], marker: &HashMap<u128, i32>) -> (Vec<i32>, bool) {
-    let mut markers: Vec<i32> = boundary
+/// Patches, faces, owners, neighbours and each patch's face count (see [`order_faces`]).
+type Ordered = (Vec<Patch>, Vec<Face>, Vec<u32>, Vec<u32>, Vec<usize>);
+
+/// The faces of `set` in polyMesh order with their patches: one per marker of the boundary
+/// faces (`marker` by key, in increasing order, named by `name`), then `defaultFaces` if some
+/// boundary face has no marker. `face` gives a slot's face. Patches, faces, owners, neighbours
+/// and each patch's face count.
+fn order_faces(
+    dir: &Path,
+    set: FaceSet,
+    marker: &HashMap<u128, i32>,
+    name: impl Fn(i32) -> String,
+    face: impl Fn(u32) -> Face,
+) -> Result<Ordered, IoError> {
+    let per_cell = set.per_cell;
+    let paired = set.pair(dir)?;
+    let mut markers: Vec<i32> = paired
+        .1
         .iter()
         .filter_map(|(k, _)| marker.get(k).copied())
         .collect();
     markers.sort_unstable();
     markers.dedup();
-    let unmarked = boundary.iter().any(|(k, _)| !marker.contains_key(k));
-    (markers, unmarked)
+    let unmarked = paired.1.iter().any(|(k, _)| !marker.contains_key(k));
+    let patches = patches(dir, &markers, name, unmarked)?;
+    let patch_of = |k: u128| match marker.get(&k) {
+        Some(m) => markers.binary_search(m).expect("a marker of the list"),
+        None => markers.len(),
+    };
+    let (faces, owner, neighbour, counts) =
+        in_order(paired, per_cell, patches.len(), patch_of, face);
+    Ok((patches, faces, owner, neighbour, counts))
 }
 
 /// The key of a face through points `v`: sorted, 32 bits each.
@@ -310,14 +331,8 @@ pub fn write_foam(dir: &Path, mesh: &TetMeshOut<'_>) -> Result<Vec<PathBuf>, IoE
         .zip(mesh.face_markers)
         .map(|(f, &m)| (key(f), m))
         .collect();
-    let paired = set.pair(dir)?;
-    let (markers, unmarked) = boundary_markers(&paired.1, &marker);
-    let patches = patches(dir, &markers, |m| mesh.marker_name(m), unmarked)?;
-    let patch_of = |k: u128| match marker.get(&k) {
-        Some(m) => markers.binary_search(m).expect("a marker of the list"),
-        None => markers.len(),
-    };
-    let (faces, owner, neighbour, counts) = in_order(paired, 4, patches.len(), patch_of, face);
+    let (patches, faces, owner, neighbour, counts) =
+        order_faces(dir, set, &marker, |m| mesh.marker_name(m), face)?;
     write_poly_mesh(
         dir,
         &PolyMesh {
@@ -390,15 +405,8 @@ pub fn write_foam_2d(dir: &Path, mesh: &TriangleMeshOut<'_>) -> Result<Vec<PathB
         .zip(mesh.edge_markers)
         .map(|(e, &m)| (key(e), m))
         .collect();
-    let paired = set.pair(dir)?;
-    let (markers, unmarked) = boundary_markers(&paired.1, &marker);
-    let mut patches = patches(dir, &markers, |m| format!("marker_{m}"), unmarked)?;
-    let patch_of = |k: u128| match marker.get(&k) {
-        Some(m) => markers.binary_search(m).expect("a marker of the list"),
-        None => markers.len(),
-    };
-    let (mut faces, mut owner, neighbour, mut counts) =
-        in_order(paired, 3, patches.len(), patch_of, face);
+    let (mut patches, mut faces, mut owner, neighbour, mut counts) =
+        order_faces(dir, set, &marker, |m| format!("marker_{m}"), face)?;
     // The two planes: the bottom turned down, the top up.
     for (cell, t) in triangles.iter().enumerate() {
         faces.push(Face::tri([t[0], t[2], t[1]]));

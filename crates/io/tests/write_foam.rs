@@ -8,57 +8,9 @@ use std::path::Path;
 
 use delmesh_io::{is_polymesh, write_foam, write_foam_2d, TetMeshOut, TriangleMeshOut};
 
-/// Corner `i` of the unit cube is `(i & 1, i >> 1 & 1, i >> 2 & 1)`.
-const CUBE: [[f64; 3]; 8] = [
-    [0.0, 0.0, 0.0],
-    [1.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0],
-    [1.0, 1.0, 0.0],
-    [0.0, 0.0, 1.0],
-    [1.0, 0.0, 1.0],
-    [0.0, 1.0, 1.0],
-    [1.0, 1.0, 1.0],
-];
-/// The six positively oriented Kuhn tetrahedra around the diagonal 0-7.
-const TETS: [[u32; 4]; 6] = [
-    [0, 1, 3, 7],
-    [0, 1, 7, 5],
-    [0, 2, 7, 3],
-    [0, 2, 6, 7],
-    [0, 4, 5, 7],
-    [0, 4, 7, 6],
-];
-const REGIONS: [f64; 6] = [1.0, 1.0, 1.0, 2.0, 2.0, 2.0];
-/// The twelve boundary triangles (any orientation: the writer turns them); markers: x = 0 is
-/// 1, x = 1 is 2, y = 0 and y = 1 are 3, z = 0 is 0, z = 1 is 4.
-const FACES: [[u32; 3]; 12] = [
-    [0, 4, 6],
-    [1, 7, 5],
-    [0, 5, 4],
-    [2, 6, 7],
-    [0, 2, 3],
-    [4, 7, 6],
-    [0, 6, 2],
-    [1, 3, 7],
-    [0, 1, 5],
-    [2, 7, 3],
-    [0, 3, 1],
-    [4, 5, 7],
-];
-const FACE_MARKERS: [i32; 12] = [1, 2, 3, 3, 0, 4, 1, 2, 3, 3, 0, 4];
-const NAMES: [(i32, &str); 2] = [(1, "inlet"), (2, "outlet")];
+mod common;
 
-fn cube() -> TetMeshOut<'static> {
-    TetMeshOut {
-        coords: &CUBE,
-        tets: &TETS,
-        regions: Some(&REGIONS),
-        faces: &FACES,
-        face_markers: &FACE_MARKERS,
-        point_markers: None,
-        marker_names: &NAMES,
-    }
-}
+use common::{cube, FACES, FACE_MARKERS};
 
 /// A polyMesh read back.
 struct Foam {
