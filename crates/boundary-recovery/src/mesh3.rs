@@ -25,11 +25,13 @@ pub struct FaceIndex(HashMap<[VertexId; 3], usize>);
 /// round is enough unless flat elements touch; the bound keeps any input bounded.
 const FLAT_SPLIT_ROUNDS: usize = 4;
 
-/// Whether the tetrahedron `p` is flat: each corner within 2^-30 of the longest edge of the
-/// plane of the largest face (the test of [`Mesh3::remove_flat_surface_elements`] too). A
-/// volume test against the longest edge cubed alone would call a needle flat (an element of
-/// the long thin triangles of a CAD cylinder's cap, with a corner 0.11 off a facet 50 long,
-/// was taken out of the domain as lying flat on it).
+/// Whether the tetrahedron `p` is flat: its height over its largest face is within 2^-30 of
+/// that face's width (twice its area over the longest edge), so that its dihedral angles are
+/// within about 2^-30 of 0° and 180° (the test of [`Mesh3::remove_flat_surface_elements`]
+/// too). Against a length alone, long bodies had elements called flat: against the longest
+/// edge cubed, a needle (a corner 0.11 off a CAD cylinder's cap 50 long); against the
+/// longest edge, the two side faces of a hexagonal prism 1e9 long meeting at 120°, whose
+/// diagonal was swapped and 14% of the volume lost.
 fn flat(p: [[f64; 3]; 4]) -> bool {
     let mut longest2 = 0.0f64;
     for i in 0..4 {
@@ -39,7 +41,7 @@ fn flat(p: [[f64; 3]; 4]) -> bool {
         }
     }
     // Twice the largest face area, and six times the volume: the height over that face is
-    // their ratio.
+    // their ratio, and the face's width twice its area over the longest edge.
     let largest = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]]
         .iter()
         .map(|&[a, b, c]| {
@@ -48,8 +50,9 @@ fn flat(p: [[f64; 3]; 4]) -> bool {
         })
         .fold(0.0f64, f64::max);
     let six_volume = dot(cross(sub(p[1], p[0]), sub(p[2], p[0])), sub(p[3], p[0])).abs();
-    // (A NaN volume is not flat.)
-    six_volume <= largest * longest2.sqrt() * 2f64.powi(-30)
+    // height ≤ 2^-30 width: six_volume / largest ≤ 2^-30 largest / longest (a NaN volume is
+    // not flat).
+    six_volume * longest2.sqrt() <= largest * largest * 2f64.powi(-30)
 }
 
 fn sorted(mut v: [VertexId; 3]) -> [VertexId; 3] {

@@ -116,8 +116,10 @@ impl Dim for D2 {
 
     fn circumcenter(p: &[[f64; 2]]) -> [f64; 2] {
         let (a, b, c) = (p[0], p[1], p[2]);
-        let (bx, by) = (b[0] - a[0], b[1] - a[1]);
-        let (cx, cy) = (c[0] - a[0], c[1] - a[1]);
+        // The edge vectors scaled by a power of two to magnitude about 1 (see `unit_scale`).
+        let (s, unscale) = unit_scale(&[b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1]]);
+        let (bx, by) = (s * (b[0] - a[0]), s * (b[1] - a[1]));
+        let (cx, cy) = (s * (c[0] - a[0]), s * (c[1] - a[1]));
         let b2 = bx * bx + by * by;
         let c2 = cx * cx + cy * cy;
         // The denominator from the exact sign's evaluation where rounding could decide it
@@ -125,12 +127,12 @@ impl Dim for D2 {
         let (l, r) = (bx * cy, by * cx);
         let mut det = l - r;
         if det.abs() <= 3.4e-16 * (l.abs() + r.abs()) {
-            det = pred::orient2d_value(a, b, c);
+            det = exact_scaled(pred::orient2d_value(a, b, c), s * s, det);
         }
         let d = 2.0 * det;
         [
-            a[0] + (cy * b2 - by * c2) / d,
-            a[1] + (bx * c2 - cx * b2) / d,
+            a[0] + unscale * ((cy * b2 - by * c2) / d),
+            a[1] + unscale * ((bx * c2 - cx * b2) / d),
         ]
     }
 }
@@ -187,6 +189,9 @@ impl Dim for D3 {
         let a = p[0];
         let d = |q: [f64; 3]| [q[0] - a[0], q[1] - a[1], q[2] - a[2]];
         let (b, c, e) = (d(p[1]), d(p[2]), d(p[3]));
+        // Scaled by a power of two to magnitude about 1 (see `unit_scale`).
+        let (s, unscale) = unit_scale(&[b[0], b[1], b[2], c[0], c[1], c[2], e[0], e[1], e[2]]);
+        let (b, c, e) = (b.map(|x| s * x), c.map(|x| s * x), e.map(|x| s * x));
         let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
         let cross = |u: [f64; 3], v: [f64; 3]| {
             [
@@ -202,14 +207,40 @@ impl Dim for D3 {
             + b[1].abs() * ((c[2] * e[0]).abs() + (c[0] * e[2]).abs())
             + b[2].abs() * ((c[0] * e[1]).abs() + (c[1] * e[0]).abs());
         if det.abs() <= 8e-16 * permanent {
-            det = pred::orient3d_value(p[0], p[1], p[2], p[3]);
+            det = exact_scaled(pred::orient3d_value(p[0], p[1], p[2], p[3]), s * s * s, det);
         }
         let det = 2.0 * det;
         let (b2, c2, e2) = (dot(b, b), dot(c, c), dot(e, e));
         let mut r = [0.0; 3];
         for k in 0..3 {
-            r[k] = a[k] + (b2 * ce[k] + c2 * eb[k] + e2 * bc[k]) / det;
+            r[k] = a[k] + unscale * ((b2 * ce[k] + c2 * eb[k] + e2 * bc[k]) / det);
         }
         r
+    }
+}
+
+/// A power of two `s` that brings the largest of `v` to between 1 and 2, and `1 / s`: the
+/// circumcentre formulas square and cube the edge vectors, which overflow (or vanish) for
+/// edges beyond about 1e±100 unscaled. Multiplying by a power of two changes no digit, so
+/// where nothing overflows the centre is the same to the bit. (Within ±1000 octaves, so that
+/// both factors are finite.)
+fn unit_scale(v: &[f64]) -> (f64, f64) {
+    let m = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if !(m > 0.0 && m.is_finite()) {
+        return (1.0, 1.0);
+    }
+    let e = (m.log2().floor() as i32).clamp(-1000, 1000);
+    (2f64.powi(-e), 2f64.powi(e))
+}
+
+/// The exact determinant `exact` of the unscaled points in the scaled units (`factor`, the
+/// scale to the power of the dimension), or the floating-point `fallback` where that
+/// overflows or vanishes (an exact zero stays zero).
+fn exact_scaled(exact: f64, factor: f64, fallback: f64) -> f64 {
+    let scaled = exact * factor;
+    if exact == 0.0 || (scaled.is_finite() && scaled != 0.0) {
+        scaled
+    } else {
+        fallback
     }
 }

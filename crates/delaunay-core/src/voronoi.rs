@@ -159,7 +159,14 @@ impl Triangulation<D2> {
                 let p = circumcenter(self, c);
                 r = r.max((p[0] - lo[0]).abs() + (p[1] - lo[1]).abs());
             }
-            4.0 * r + 1.0
+            // In the box's own units (a ray of length 1 past a box 1e-300 wide leaves nothing
+            // of the box's digits where it is clipped), and below the largest float (a ray's
+            // end must stay finite to be clipped).
+            if r > 0.0 {
+                (4.0 * r).min(f64::MAX / 16.0)
+            } else {
+                1.0
+            }
         };
         (0..self.num_vertices())
             .map(|v| {
@@ -228,9 +235,10 @@ impl Triangulation<D2> {
             // The interior is to the left of v→w for the first cell's edge, to the right of
             // w→v... so the outward normal is (dy, −dx) for v→w and (−dy, dx) for the other.
             let n = if before { [dy, -dx] } else { [-dy, dx] };
-            let len = (n[0] * n[0] + n[1] * n[1]).sqrt();
+            // (`hypot`: the squares of coordinates near 1e±200 overflow or vanish.)
+            let len = n[0].hypot(n[1]);
             let o = circumcenter(self, c);
-            [o[0] + reach * n[0] / len, o[1] + reach * n[1] / len]
+            [o[0] + reach * (n[0] / len), o[1] + reach * (n[1] / len)]
         };
         let first = ray(finite[0], true);
         let last = ray(
@@ -241,12 +249,10 @@ impl Triangulation<D2> {
             first[0] + last[0] - 2.0 * p[0],
             first[1] + last[1] - 2.0 * p[1],
         ];
-        let mid_len = (mid_dir[0] * mid_dir[0] + mid_dir[1] * mid_dir[1])
-            .sqrt()
-            .max(f64::MIN_POSITIVE);
+        let mid_len = mid_dir[0].hypot(mid_dir[1]).max(f64::MIN_POSITIVE);
         let mid = [
-            p[0] + 2.0 * reach * mid_dir[0] / mid_len,
-            p[1] + 2.0 * reach * mid_dir[1] / mid_len,
+            p[0] + 2.0 * reach * (mid_dir[0] / mid_len),
+            p[1] + 2.0 * reach * (mid_dir[1] / mid_len),
         ];
         poly.insert(0, first);
         poly.push(last);

@@ -140,3 +140,42 @@ fn nearly_collinear_and_coplanar_points_have_finite_circumcentres() {
         assert!(c.iter().all(|x| x.is_finite()), "{i}: {c:?}");
     }
 }
+
+#[test]
+fn far_from_unit_magnitudes_have_finite_regions_and_centres() {
+    // The squares of edges near 1e±160 overflow or vanish in f64; the centres and the rays of
+    // unbounded regions are computed so that neither happens.
+    for s in [1.0, 1e-300, 1e-160, 1e160, 1e300] {
+        let t = Triangulation2::new(&[[0.0, 0.0], [s, 0.0], [0.0, s]]).unwrap();
+        let vd = VoronoiDiagram::new(&t);
+        assert_eq!(vd.circumcenter(0), [0.5 * s, 0.5 * s], "{s}");
+        let (lo, hi) = ([-0.1 * s, -0.1 * s], [1.1 * s, 1.1 * s]);
+        let cells = t.voronoi_cells(lo, hi);
+        let mut total = 0.0;
+        for cell in &cells {
+            let poly = &cell.polygon;
+            assert!(
+                poly.iter().flatten().all(|x| x.is_finite()),
+                "{s}: {poly:?}"
+            );
+            // The area in units of s² (so that it neither overflows nor vanishes).
+            total += (0..poly.len())
+                .map(|k| {
+                    let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
+                    (p[0] / s) * (q[1] / s) - (p[1] / s) * (q[0] / s)
+                })
+                .sum::<f64>()
+                / 2.0;
+        }
+        assert!(
+            (total - 1.44).abs() < 1e-12,
+            "{s}: the regions cover {total}"
+        );
+        let t =
+            Triangulation3::new(&[[0.0, 0.0, 0.0], [s, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]])
+                .unwrap();
+        let vd = VoronoiDiagram::new(&t);
+        let c = vd.circumcenter(0);
+        assert!(c.iter().all(|x| (x / s - 0.5).abs() < 1e-12), "{s}: {c:?}");
+    }
+}

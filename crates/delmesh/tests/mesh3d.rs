@@ -657,6 +657,24 @@ fn a_cad_cylinder_of_needle_elements_keeps_its_volume() {
     check(&plc, &run, 1, true);
 }
 
+#[test]
+fn long_prisms_keep_their_sides_and_volume() {
+    // Hexagonal and octagonal prisms of radius 1, 1e9 and 1e12 long. Their side faces meet at
+    // 120° and 135°, yet two of them were taken for one plane: the flatness test compared the
+    // height of an element over its largest face with the longest edge (1e9), and the fallback's
+    // merging of nearly coplanar facets the thickness with the coordinates (1e12); a diagonal
+    // was swapped across the bend and 11–14% of the volume lost (the tests now hold the
+    // thickness to the faces' width too). Every side is kept, with every recovery.
+    for (n, h) in [(6, 1e9), (6, 1e12), (8, 1e9)] {
+        let plc = cad_cylinder(n, h);
+        for recovery in RECOVERIES {
+            let run = mesh_with(&plc, recovery, MeshOptions3::default());
+            // Merged or not, each side and each cap is covered.
+            check_merged_cylinder(&plc, n, run, recovery != RecoveryMethod3::Constrained);
+        }
+    }
+}
+
 /// The planar patches of [`cad_cylinder`]`(n, _)`: each side and each cap one facet.
 fn cylinder_patch(n: u32, facet: u32) -> u32 {
     if facet < 2 * n {
