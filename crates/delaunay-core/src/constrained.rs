@@ -863,6 +863,22 @@ impl ConstrainedTriangulation2 {
     /// # Errors
     /// The first broken invariant found.
     pub fn validate(&self) -> Result<(), crate::ValidationError> {
+        self.constraints_agree()?;
+        self.tri.validate_skipping(|c, i| self.is_constrained(c, i))
+    }
+
+    /// [`Self::validate`] without the Delaunay test (a mesh whose smoothed connectivity was
+    /// kept): structure, orientation and constrained edges only.
+    ///
+    /// # Errors
+    /// The first broken invariant found.
+    pub fn validate_structure(&self) -> Result<(), crate::ValidationError> {
+        self.constraints_agree()?;
+        self.tri.validate_skipping(|_, _| true)
+    }
+
+    /// Both sides of every constrained edge say it is.
+    fn constraints_agree(&self) -> Result<(), crate::ValidationError> {
         for c in self.tri.all_cells() {
             for i in 0..3 {
                 let across = self.tri.simplices[c.index()].n[i];
@@ -874,7 +890,7 @@ impl ConstrainedTriangulation2 {
                 }
             }
         }
-        self.tri.validate_skipping(|c, i| self.is_constrained(c, i))
+        Ok(())
     }
 }
 

@@ -77,6 +77,23 @@ impl TriangulationError {
             other => other,
         }
     }
+
+    /// The error with its coordinates multiplied by `factor` (a problem solved in scaled
+    /// units reports them in the caller's).
+    pub fn in_units(self, factor: f64) -> Self {
+        match self {
+            TriangulationError::CoordinateRange {
+                index,
+                value,
+                largest,
+            } => TriangulationError::CoordinateRange {
+                index,
+                value: value * factor,
+                largest: largest * factor,
+            },
+            other => other,
+        }
+    }
 }
 
 /// Why an operation on a [`crate::ConstrainedTriangulation2`] failed. Vertex ids are the
@@ -164,7 +181,7 @@ pub enum ValidationError {
         cell: u32,
     },
     /// A vertex lies inside the circumsphere of a cell (or beyond a hull facet).
-    #[error("vertex {vertex} lies inside the circumsphere of cell {cell}")]
+    #[error("vertex {vertex} lies inside the circumcircle (circumsphere in 3D) of cell {cell}")]
     NotDelaunay {
         /// Cell index.
         cell: u32,

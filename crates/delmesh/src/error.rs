@@ -43,6 +43,20 @@ pub enum Error {
         /// The supported extensions, e.g. `.vtu, .ele`.
         supported: &'static str,
     },
+    /// A background or solution mesh file's extension names no format delmesh reads for it.
+    #[error(
+        "{file}: cannot read a background or solution mesh from a '{ext}' file (supported: \
+         {supported})",
+        file = .file.display()
+    )]
+    UnsupportedMeshInput {
+        /// The input path.
+        file: PathBuf,
+        /// The extension found (with its dot).
+        ext: String,
+        /// The supported extensions, e.g. `.vtu, .vtk`.
+        supported: &'static str,
+    },
     /// A point set of a dimension other than 2 or 3.
     #[error("{file}: points of dimension {dim}; only 2 and 3 are supported", file = .file.display())]
     Dimension {
@@ -204,6 +218,7 @@ impl Error {
             Error::Io(e) => Some(e.file()),
             Error::Triangulation { file, .. }
             | Error::UnsupportedFormat { file, .. }
+            | Error::UnsupportedMeshInput { file, .. }
             | Error::Dimension { file, .. }
             | Error::MeshDimension { file, .. }
             | Error::Input { file, .. } => Some(file),

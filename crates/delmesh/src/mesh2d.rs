@@ -138,7 +138,7 @@ pub fn mesh_plc(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Error> {
         return mesh_plc_as_given(plc, options);
     }
     let (plc, options) = units::scale_problem2(plc, options, e);
-    let mut run = mesh_plc_as_given(&plc, &options)?;
+    let mut run = mesh_plc_as_given(&plc, &options).map_err(|err| units::unscale_error(err, e))?;
     units::unscale_run2(&mut run, -e)?;
     Ok(run)
 }
@@ -613,7 +613,7 @@ fn read_field(path: &Path, field: &str) -> Result<(FieldData, (PathBuf, u32)), E
         "vtk" => delmesh_io::read_vtk_legacy(path)?,
         "ele" => delmesh_io::read_triangle_mesh(path)?,
         _ => {
-            return Err(Error::UnsupportedFormat {
+            return Err(Error::UnsupportedMeshInput {
                 file: path.to_path_buf(),
                 ext: format!(".{ext}"),
                 supported: ".vtu, .vtk, .ele",

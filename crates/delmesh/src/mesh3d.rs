@@ -235,7 +235,7 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
         (Error::SurfaceSpacing { reason, .. }, Some(value)) => {
             Error::SurfaceSpacing { value, reason }
         }
-        (err, _) => err,
+        (err, _) => units::unscale_error(err, e),
     })?;
     units::unscale_run3(&mut run, -e)?;
     Ok(run)
@@ -1556,7 +1556,7 @@ fn read_field3(path: &Path, field: &str) -> Result<FieldData3, Error> {
         "vtu" => delmesh_io::read_vtu(path)?,
         "vtk" => delmesh_io::read_vtk_legacy(path)?,
         ext => {
-            return Err(Error::UnsupportedFormat {
+            return Err(Error::UnsupportedMeshInput {
                 file: path.to_path_buf(),
                 ext: format!(".{ext}"),
                 supported: ".vtu, .vtk",

@@ -183,6 +183,19 @@ pub(crate) fn unscale_run3(run: &mut MeshRun3, e: i32) -> Result<(), Error> {
     Ok(())
 }
 
+/// An error of the problem solved in units `2^e` times larger, its coordinates in the
+/// caller's units again (a coordinate-range error named the scaled values).
+pub(crate) fn unscale_error(err: Error, e: i32) -> Error {
+    match err {
+        Error::Recovery(delmesh_boundary_recovery::RecoveryError::Triangulation(t)) => {
+            Error::Recovery(delmesh_boundary_recovery::RecoveryError::Triangulation(
+                t.in_units(2f64.powi(-e)),
+            ))
+        }
+        other => other,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

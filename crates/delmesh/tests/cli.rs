@@ -759,6 +759,23 @@ fn mesh_recovery_methods_and_options() {
         );
         assert!(ok(&out).contains("validation: ok"));
     }
+    // The smoothed connectivity kept (--no-flips) need not be Delaunay: validation checks the
+    // rest (it failed on the empty-circle test, and nothing was written).
+    let out = delmesh(
+        dir.path(),
+        &[
+            "mesh",
+            "sq.poly",
+            "-o",
+            "k.ele",
+            "--alpha",
+            "0.1",
+            "--no-flips",
+            "--validate",
+        ],
+    );
+    assert!(ok(&out).contains("validation: ok"));
+    assert!(dir.path().join("k.ele").exists());
     let out = delmesh(
         dir.path(),
         &["mesh", "sq.poly", "-o", "n.ele", "--no-points", "-q"],
@@ -806,6 +823,22 @@ fn mesh_errors_name_the_file() {
         &["mesh", "sq.poly", "-o", "x.vtu", "--alpha=-1"],
     ));
     assert!(msg.contains("alpha"), "{msg}");
+    // A tiny α asks for as many elements as a tiny spacing: refused at once (it ran out of
+    // memory).
+    let msg = fails(&delmesh(
+        dir.path(),
+        &["mesh", "sq.poly", "-o", "x.vtu", "--alpha", "1e-9"],
+    ));
+    assert!(msg.contains("alpha") && msg.contains("2^30"), "{msg}");
+    // A background mesh in a format read only as a domain.
+    let msg = fails(&delmesh(
+        dir.path(),
+        &["mesh", "sq.poly", "-o", "x.vtu", "--background", "sq.poly"],
+    ));
+    assert!(
+        msg.contains("sq.poly: cannot read a background or solution mesh from a '.poly' file"),
+        "{msg}"
+    );
 }
 
 #[test]

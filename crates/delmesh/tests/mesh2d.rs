@@ -656,3 +656,43 @@ fn max_points_bounds_generation_and_refinement_together() {
         check_run(&run, &plc, "budget");
     }
 }
+
+#[test]
+fn a_circumcentre_rounded_next_to_a_boundary_edge_is_refused() {
+    // One skinny triangle's circumcentre is the midpoint of a boundary segment, which rounding
+    // put 3e-13 inside the domain: quality refinement inserted it there, leaving a triangle of
+    // area 4e-13 with a 180° angle on the segment (unsmoothed; smoothing hid it, not always).
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../data/refinement-near-segment.poly"
+    );
+    let plc = delmesh::mesh2d::read_plc(std::path::Path::new(path)).unwrap();
+    let options = MeshOptions2 {
+        smoothing: None,
+        ..MeshOptions2::default()
+    };
+    let run = mesh_plc(&plc, &options).unwrap();
+    // (Its loops are not oriented: the area is that of its 19 cells of 3.7 × 3.7.)
+    check_run_of_area(&run, &plc, "refinement near a segment", 19.0 * 3.7 * 3.7);
+    assert!(run.refined > 0);
+    assert!(run.quality.min_angle > 10.0, "{}", run.quality.min_angle);
+    assert!(run.quality.max_angle < 170.0, "{}", run.quality.max_angle);
+}
+
+#[test]
+fn a_coordinate_range_error_names_the_input_coordinates() {
+    // A square from 1e8 to 1e150 is scaled before it is meshed; the error named the scaled
+    // coordinates (1.2e-142 and 1.2).
+    let mut plc = Plc2::default();
+    polygon(
+        &mut plc,
+        &[[1e8, 1e8], [1e150, 1e8], [1e150, 1e150], [1e8, 1e150]],
+    );
+    let err = mesh_plc(&plc, &MeshOptions2::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("coordinate 1e8") && err.contains("largest coordinate magnitude 1e150"),
+        "{err}"
+    );
+}

@@ -101,7 +101,7 @@ pub(crate) fn parse_version(token: &str, file: &Path, line: usize) -> Result<Ver
 
 /// Non-blank lines with their 1-based numbers.
 pub(crate) struct Lines<'t> {
-    inner: std::iter::Enumerate<std::str::Lines<'t>>,
+    inner: std::iter::Enumerate<crate::text::TextLines<'t>>,
     file: &'t Path,
     /// The number of the text's first line (1 for a whole file).
     first: usize,
@@ -112,10 +112,10 @@ impl<'t> Lines<'t> {
     /// The lines of `text`, numbered from `first`.
     pub(crate) fn new(text: &'t str, file: &'t Path, first: usize) -> Self {
         Lines {
-            inner: text.lines().enumerate(),
+            inner: crate::text::text_lines(text).enumerate(),
             file,
             first,
-            last: first + text.lines().count().max(1) - 1,
+            last: first + crate::text::text_lines(text).count().max(1) - 1,
         }
     }
 

@@ -113,11 +113,7 @@ pub(crate) fn parse_poly_with(
                 .err()
                 .unwrap_or_else(|| eof("points")));
         };
-        let end = text
-            .split_inclusive('\n')
-            .take(end_line)
-            .map(str::len)
-            .sum::<usize>();
+        let end = crate::text::end_of_line(text, end_line);
         (parse_node(&text[..end], file)?, n + 1)
     };
     if points.dim != 2 {
@@ -175,7 +171,14 @@ pub(crate) fn parse_poly_with(
         }
         segments.push(ends);
         segment_markers.push(if smark == 1 {
-            int(toks[3], *line, "segment marker")? as i32
+            let m = int(toks[3], *line, "segment marker")?;
+            // (Markers are 32-bit, as Triangle's and every writer's.)
+            i32::try_from(m).map_err(|_| {
+                err(
+                    *line,
+                    format!("segment marker {m} is out of the range of 32-bit integers"),
+                )
+            })?
         } else {
             0
         });
@@ -360,6 +363,23 @@ mod tests {
     }
 
     #[test]
+    fn old_mac_and_windows_line_ends_read_the_same() {
+        let p = parse_poly(SQUARE, Path::new("sq.poly")).unwrap();
+        for ends in ["\r", "\r\n"] {
+            let text = SQUARE.replace('\n', ends);
+            assert_eq!(
+                parse_poly(&text, Path::new("sq.poly")).unwrap(),
+                p,
+                "{ends:?}"
+            );
+            // Line numbers count the same lines.
+            let bad = text.replace("5 5 8 6", "5 5 9 6");
+            let e = parse_poly(&bad, Path::new("sq.poly")).unwrap_err();
+            assert!(e.to_string().starts_with("sq.poly:16: "), "{e}");
+        }
+    }
+
+    #[test]
     fn errors_name_the_line() {
         let bad = SQUARE.replace("5 5 8 6", "5 5 9 6");
         let e = parse_poly(&bad, Path::new("sq.poly")).unwrap_err();
@@ -382,6 +402,15 @@ mod tests {
         assert_eq!(
             e.to_string(),
             "d.poly:12: expected 4 fields for a segment, found 3"
+        );
+        let e = parse_poly(
+            &SQUARE.replace("5 5 8 6", "5 5 8 2147483648"),
+            Path::new("m.poly"),
+        )
+        .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "m.poly:16: segment marker 2147483648 is out of the range of 32-bit integers"
         );
         for garbage in [
             "",

@@ -27,13 +27,61 @@ pub(crate) fn read_text(path: &Path) -> Result<String, IoError> {
 pub(crate) fn data_lines(text: &str) -> DataLines<'_> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     DataLines {
-        inner: text.lines().enumerate(),
+        inner: text_lines(text).enumerate(),
+    }
+}
+
+/// The lines of `text`, ended by `\n`, `\r\n` or a lone `\r` (old Mac files: read as one
+/// line of all the fields, "expected 2 to 4 header fields, found 39").
+pub(crate) fn text_lines(text: &str) -> TextLines<'_> {
+    TextLines {
+        rest: (!text.is_empty()).then_some(text),
+    }
+}
+
+/// The byte offset just after line `n` of `text` (numbered from 1, as [`text_lines`] counts
+/// them, its end of line included), or the text's length.
+pub(crate) fn end_of_line(text: &str, n: usize) -> usize {
+    let mut lines = text_lines(text);
+    for _ in 0..n {
+        if lines.next().is_none() {
+            break;
+        }
+    }
+    lines
+        .rest
+        .map_or(text.len(), |rest| text.len() - rest.len())
+}
+
+/// The iterator of [`text_lines`].
+pub(crate) struct TextLines<'t> {
+    rest: Option<&'t str>,
+}
+
+impl<'t> Iterator for TextLines<'t> {
+    type Item = &'t str;
+
+    fn next(&mut self) -> Option<&'t str> {
+        let text = self.rest?;
+        match text.find(['\n', '\r']) {
+            Some(at) => {
+                let skip = if text[at..].starts_with("\r\n") { 2 } else { 1 };
+                let after = &text[at + skip..];
+                // (As `str::lines`: no empty line after the last end of line.)
+                self.rest = (!after.is_empty()).then_some(after);
+                Some(&text[..at])
+            }
+            None => {
+                self.rest = None;
+                Some(text)
+            }
+        }
     }
 }
 
 /// The iterator of [`data_lines`]: a named type so that readers can keep it in a struct.
 pub(crate) struct DataLines<'t> {
-    inner: std::iter::Enumerate<std::str::Lines<'t>>,
+    inner: std::iter::Enumerate<TextLines<'t>>,
 }
 
 impl<'t> Iterator for DataLines<'t> {
@@ -128,12 +176,17 @@ impl<'t> Scanner<'t> {
         let bytes = self.text.as_bytes();
         while self.pos < bytes.len() {
             match bytes[self.pos] {
+                // A line ends with `\n`, `\r\n` or a lone `\r` (as in `text_lines`).
                 b'\n' => {
                     self.line += 1;
                     self.pos += 1;
                 }
+                b'\r' if bytes.get(self.pos + 1) != Some(&b'\n') => {
+                    self.line += 1;
+                    self.pos += 1;
+                }
                 b'#' if self.comments => {
-                    while self.pos < bytes.len() && bytes[self.pos] != b'\n' {
+                    while self.pos < bytes.len() && !matches!(bytes[self.pos], b'\n' | b'\r') {
                         self.pos += 1;
                     }
                 }
@@ -162,7 +215,7 @@ impl<'t> Scanner<'t> {
     pub(crate) fn rest_of_line(&mut self) -> &'t str {
         let bytes = self.text.as_bytes();
         let start = self.pos;
-        while self.pos < bytes.len() && bytes[self.pos] != b'\n' {
+        while self.pos < bytes.len() && !matches!(bytes[self.pos], b'\n' | b'\r') {
             self.pos += 1;
         }
         self.text[start..self.pos].trim()
@@ -176,7 +229,7 @@ impl<'t> Scanner<'t> {
 
 /// The number of the last line of `text` (at least 1), used for "unexpected end of file".
 pub(crate) fn last_line(text: &str) -> usize {
-    text.lines().count().max(1)
+    text_lines(text).count().max(1)
 }
 
 /// Parses a token as a finite `f64` coordinate; `axis` ("x", "y", "z") names it in messages.
@@ -334,6 +387,23 @@ pub(crate) fn format_f64(x: f64) -> String {
 
 #[cfg(test)]
 mod tests {
+    use super::{end_of_line, text_lines};
+
+    #[test]
+    fn lines_end_at_any_line_break() {
+        let text = "a\r\nb\rc\n\nd";
+        assert_eq!(
+            text_lines(text).collect::<Vec<_>>(),
+            ["a", "b", "c", "", "d"]
+        );
+        assert_eq!(text_lines("a\n").collect::<Vec<_>>(), ["a"]);
+        assert_eq!(text_lines("").count(), 0);
+        assert_eq!(end_of_line(text, 1), 3);
+        assert_eq!(end_of_line(text, 2), 5);
+        assert_eq!(end_of_line(text, 5), text.len());
+        assert_eq!(end_of_line(text, 9), text.len());
+    }
+
     use super::*;
 
     fn fmt(x: f64) -> String {

@@ -97,14 +97,14 @@ pub enum PointGenError {
     },
     /// The spacing field asks for more elements than the mesh's 32-bit indices hold.
     #[error(
-        "the spacing field asks for {} elements (spacing down to {spacing:.3e}), more than \
-         delmesh can index (2^30); give a larger (minimum) spacing",
+        "the spacing field asks for {} elements (alpha × spacing down to {spacing:.3e}), more \
+         than delmesh can index (2^30); give a larger (minimum) spacing or alpha",
         about(*.elements)
     )]
     SpacingTooFine {
         /// Elements the candidates of one pass ask for, at least about.
         elements: f64,
-        /// The finest spacing among them.
+        /// The finest distance between points they ask for (α times the finest spacing).
         spacing: f64,
     },
     /// A 3D candidate could not be inserted (a bad coordinate).
@@ -311,12 +311,15 @@ impl PointGeneration {
             // be indexed (a spacing of 1e-300 in a background mesh) ends the run now rather
             // than when memory runs out. Summed only when the finest spacing could ask for
             // that many over the whole domain.
-            let finest = todo.iter().fold(f64::INFINITY, |m, t| m.min(t.2));
+            // (Points go α·h apart: a tiny α asks for as many as a tiny spacing.)
+            let finest = self.alpha * todo.iter().fold(f64::INFINITY, |m, t| m.min(t.2));
             if triangles_in(domain_area, finest) > MAX_ELEMENTS {
                 let mesh: &Mesh2 = mesh;
                 let asked: f64 = todo
                     .par_iter()
-                    .map(|&(key, _, h, _)| triangles_in(area(points(mesh, CellId(key as u32))), h))
+                    .map(|&(key, _, h, _)| {
+                        triangles_in(area(points(mesh, CellId(key as u32))), self.alpha * h)
+                    })
                     .sum();
                 if asked > MAX_ELEMENTS {
                     return Err(PointGenError::SpacingTooFine {

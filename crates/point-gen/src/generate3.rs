@@ -170,10 +170,11 @@ impl PointGeneration3 {
             // their own slots, so the new one is there or nearby) is looked at as it is now.
             looked.par_sort_unstable_by_key(|t| t.0);
             // As in 2D: a spacing asking for more elements than can be indexed ends the run.
-            let finest = looked.iter().fold(f64::INFINITY, |m, t| match t.1 {
-                Candidate3::At { h, .. } => m.min(h),
-                _ => m,
-            });
+            let finest = self.alpha
+                * looked.iter().fold(f64::INFINITY, |m, t| match t.1 {
+                    Candidate3::At { h, .. } => m.min(h),
+                    _ => m,
+                });
             if tetrahedra_in(domain_volume, finest) > crate::generate::MAX_ELEMENTS {
                 let mesh: &Mesh3 = mesh;
                 let asked: f64 = looked
@@ -181,7 +182,7 @@ impl PointGeneration3 {
                     .filter_map(|&(key, k)| match k {
                         Candidate3::At { h, .. } => Some(tetrahedra_in(
                             tet_volume(points(mesh, CellId(key as u32))),
-                            h,
+                            self.alpha * h,
                         )),
                         _ => None,
                     })

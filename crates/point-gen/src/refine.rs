@@ -98,8 +98,13 @@ impl QualityRefinement {
                     .map(|u| mesh.spacing.get(u.index()).copied().unwrap_or(f64::NAN))
                     .sum::<f64>()
                     / 3.0;
+                let worst = min_sine(p);
                 let result = mesh.cdt.insert_near_if(centre, c, |cdt, cell, on_edge| {
-                    cdt.tag(cell) == tag && on_edge.is_none_or(|i| !cdt.is_constrained(cell, i))
+                    cdt.tag(cell) == tag
+                        && on_edge.is_none_or(|i| !cdt.is_constrained(cell, i))
+                        && !worse_on_boundary(cdt.triangulation(), cell, centre, worst, |i| {
+                            cdt.is_constrained(cell, i)
+                        })
                 });
                 match result {
                     Ok(Some(Insertion::Inserted(nv))) => {
@@ -137,6 +142,30 @@ fn min_sine(p: [[f64; 2]; 3]) -> f64 {
     let mut l = [e0, e1, e2].map(f64::sqrt);
     l.sort_unstable_by(f64::total_cmp);
     twice_area / l[2] / l[1]
+}
+
+/// Whether the point `q`, in cell `cell`, would make a triangle with a boundary edge of the
+/// cell (`constrained(i)` for the edge opposite corner `i`) whose smallest angle is smaller
+/// than `worst`'s sine, the refined element's: such an edge is on the boundary of the point's
+/// cavity, so the triangle is made. A circumcentre that rounding put a hair off a boundary
+/// edge (the right angle of a triangle on it puts it on the edge's midpoint) made a triangle of
+/// area 1e-13 and a 180° angle there.
+fn worse_on_boundary(
+    tri: &delmesh_delaunay_core::Triangulation<delmesh_delaunay_core::D2>,
+    cell: delmesh_delaunay_core::CellId,
+    q: [f64; 2],
+    worst: f64,
+    constrained: impl Fn(usize) -> bool,
+) -> bool {
+    let v = tri.cell(cell);
+    (0..3).any(|i| {
+        constrained(i) && {
+            let (a, b) = (v[(i + 1) % 3], v[(i + 2) % 3]);
+            !a.is_ghost()
+                && !b.is_ghost()
+                && min_sine([q, tri.vertex(a), tri.vertex(b)]).abs() < worst
+        }
+    })
 }
 
 /// The circumcentre of a triangle, if it is finite.

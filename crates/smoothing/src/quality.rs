@@ -296,8 +296,7 @@ fn neighbour_ratios(n: usize, triangles: &[[u32; 3]], areas: &[f64]) -> (f64, f6
                 row.sort_unstable();
                 for w in row.windows(2) {
                     if w[0].0 == w[1].0 {
-                        let (x, y) = (areas[w[0].1 as usize].abs(), areas[w[1].1 as usize].abs());
-                        let ratio = x.max(y) / x.min(y);
+                        let ratio = size_ratio(areas[w[0].1 as usize], areas[w[1].1 as usize]);
                         worst = worst.max(ratio);
                         sum += ratio;
                         count += 1;
@@ -326,8 +325,7 @@ fn ratios_across(across: &[[u32; 3]], areas: &[f64]) -> (f64, f64, usize) {
                 let t = c * CHUNK + i;
                 for &n in row {
                     if n != u32::MAX && (n as usize) > t && (n as usize) < areas.len() {
-                        let (x, y) = (areas[t].abs(), areas[n as usize].abs());
-                        let ratio = x.max(y) / x.min(y);
+                        let ratio = size_ratio(areas[t], areas[n as usize]);
                         worst = worst.max(ratio);
                         sum += ratio;
                         count += 1;
@@ -342,6 +340,18 @@ fn ratios_across(across: &[[u32; 3]], areas: &[f64]) -> (f64, f64, usize) {
         .fold((1.0f64, 0.0, 0usize), |(w, s, c), p| {
             (w.max(p.0), s + p.1, c + p.2)
         })
+}
+
+/// The ratio of the larger to the smaller of two element sizes (areas or volumes, either sign):
+/// 1 for two equal sizes, zeros too (elements so flat that their floating-point size is 0
+/// gave NaN, and a NaN mean), infinite for a zero beside a non-zero.
+pub(crate) fn size_ratio(x: f64, y: f64) -> f64 {
+    let (x, y) = (x.abs(), y.abs());
+    if x == y {
+        1.0
+    } else {
+        x.max(y) / x.min(y)
+    }
 }
 
 /// A total area or volume for the summary: six decimals for ordinary sizes, seven significant

@@ -173,8 +173,7 @@ impl Ratios {
 
     /// Counts the face shared by tetrahedra of volumes `x` and `y`.
     fn add(&mut self, x: f64, y: f64) {
-        let (x, y) = (x.abs(), y.abs());
-        let ratio = x.max(y) / x.min(y);
+        let ratio = crate::quality::size_ratio(x, y);
         self.worst = self.worst.max(ratio);
         self.sum += ratio;
         self.shared += 1;

@@ -300,3 +300,16 @@ proptest! {
         prop_assert!((area - (k * k) as f64).abs() < 1e-9 * (k * k) as f64);
     }
 }
+
+#[test]
+fn neighbour_ratios_of_flat_triangles_are_not_nan() {
+    // Two triangles whose floating-point areas are 0 (so thin that rounding flattens them;
+    // here flat), and an ordinary triangle beside one of them: the ratios were 0/0 (NaN).
+    let pts = [[0.0, 0.0], [1.0, 0.0], [0.5, 0.0], [0.25, 0.0], [0.5, 1.0]];
+    let tris = [[0, 1, 2], [1, 0, 3], [0, 2, 4]];
+    let q = QualityReport::of_triangles(&pts, &tris);
+    assert_eq!(q.max_neighbour_area_ratio, f64::INFINITY);
+    assert_eq!(q.mean_neighbour_area_ratio, f64::INFINITY);
+    let q = QualityReport::of_triangles(&pts, &tris[..2]);
+    assert_eq!(q.max_neighbour_area_ratio, 1.0);
+}
