@@ -52,7 +52,7 @@ pub enum RecoveryError {
         index: u64,
     },
     /// A region's area limit is not a positive number.
-    #[error("region {index}: the maximum area must be positive (got {value})")]
+    #[error("region {index}: the maximum area must be positive (got {value:?})")]
     BadAreaLimit {
         /// The region's number.
         index: u64,

@@ -531,11 +531,11 @@ fn source_numbers(spec: &str, dim: usize) -> Result<(Vec<f64>, Vec<f64>, [f64; 3
     let b = numbers[(ends - 1) * dim..ends * dim].to_vec();
     let [h0, radius, growth] = [0, 1, 2].map(|k| numbers[ends * dim + k]);
     if h0 <= 0.0 {
-        return Err(bad(format!("spacing H0 must be positive (got {h0})")));
+        return Err(bad(format!("spacing H0 must be positive (got {h0:?})")));
     }
     if radius < 0.0 || growth < 0.0 {
         return Err(bad(format!(
-            "RADIUS and GROWTH must not be negative (got {radius}, {growth})"
+            "RADIUS and GROWTH must not be negative (got {radius:?}, {growth:?})"
         )));
     }
     Ok((a, b, [h0, radius, growth]))

@@ -210,7 +210,9 @@ pub fn mesh_plc3(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Error> 
     {
         return Err(Error::BadOption {
             option: "--sliver-flips",
-            reason: format!("the angle must be a finite number of degrees, not negative (got {d})"),
+            reason: format!(
+                "the angle must be a finite number of degrees, not negative (got {d:?})"
+            ),
         });
     }
     let sources = options.generation.is_some() && !options.sources.is_empty();

@@ -67,11 +67,13 @@ fn check_values(k: usize, ends: &[f64], h0: f64, radius: f64, growth: f64) -> Re
         return refuse(format!("coordinate {x} is not finite"));
     }
     if !(h0 > 0.0 && h0.is_finite()) {
-        return refuse(format!("spacing H0 must be positive and finite (got {h0})"));
+        return refuse(format!(
+            "spacing H0 must be positive and finite (got {h0:?})"
+        ));
     }
     if !(radius >= 0.0 && radius.is_finite() && growth >= 0.0 && growth.is_finite()) {
         return refuse(format!(
-            "RADIUS and GROWTH must be finite and not negative (got {radius}, {growth})"
+            "RADIUS and GROWTH must be finite and not negative (got {radius:?}, {growth:?})"
         ));
     }
     Ok(())

@@ -818,6 +818,12 @@ fn mesh_errors_name_the_file() {
         &["mesh", "sq.poly", "-o", "x.vtu", "--omega", "2"],
     ));
     assert!(msg.contains("omega"), "{msg}");
+    // A value is echoed as short as it was given (Display wrote 1e300 in 301 digits).
+    let msg = fails(&delmesh(
+        dir.path(),
+        &["mesh", "sq.poly", "-o", "x.vtu", "--omega", "1e300"],
+    ));
+    assert!(msg.contains("(got 1e300)"), "{msg}");
     let msg = fails(&delmesh(
         dir.path(),
         &["mesh", "sq.poly", "-o", "x.vtu", "--alpha=-1"],

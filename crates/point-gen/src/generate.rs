@@ -46,10 +46,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PointGenError {
     /// α must be a positive finite number.
-    #[error("alpha must be positive and finite (got {0})")]
+    #[error("alpha must be positive and finite (got {0:?})")]
     BadAlpha(f64),
     /// The grading limit must be at least 1.
-    #[error("the grading limit must be at least 1 (got {0})")]
+    #[error("the grading limit must be at least 1 (got {0:?})")]
     BadGradingLimit(f64),
     /// A spacing value was not positive and finite at a candidate point.
     #[error("spacing {value} at ({x}, {y}) is not positive and finite")]
@@ -74,7 +74,7 @@ pub enum PointGenError {
         z: f64,
     },
     /// A region's volume limit is not a positive number.
-    #[error("region {region}: the maximum volume must be positive (got {value})")]
+    #[error("region {region}: the maximum volume must be positive (got {value:?})")]
     BadVolumeLimit {
         /// The region's number.
         region: u64,

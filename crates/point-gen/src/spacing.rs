@@ -36,7 +36,7 @@ pub enum SpacingError {
         what: String,
     },
     /// Adaptation bounds are not 0 < min ≤ max.
-    #[error("adaptation needs 0 < min spacing ≤ max spacing (got {min}, {max})")]
+    #[error("adaptation needs 0 < min spacing ≤ max spacing (got {min:?}, {max:?})")]
     Bounds {
         /// Smallest spacing.
         min: f64,

@@ -57,7 +57,7 @@ pub enum SpacingError3 {
     /// Adaptation bounds are not 0 < min ≤ max, or the growth is not finite and ≥ 0.
     #[error(
         "adaptation needs 0 < min spacing ≤ max spacing and a growth ≥ 0 \
-         (got {min}, {max}, growth {growth})"
+         (got {min:?}, {max:?}, growth {growth:?})"
     )]
     Bounds {
         /// Smallest spacing.

@@ -78,7 +78,7 @@ const FILL_RANGES: usize = 2;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SmoothError {
     /// ω must be in (0, 1].
-    #[error("smoothing factor omega must be in (0, 1] (got {0})")]
+    #[error("smoothing factor omega must be in (0, 1] (got {0:?})")]
     BadOmega(f64),
     /// The arrays do not fit together.
     #[error("smoothing input: {0}")]

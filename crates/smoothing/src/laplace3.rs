@@ -254,7 +254,7 @@ impl Smoother3 {
         if let DihedralGuard::Floor(f) = guard {
             if !(f > 0.0 && f < 180.0) {
                 return Err(SmoothError::BadInput(format!(
-                    "dihedral floor must be in (0°, 180°) (got {f})"
+                    "dihedral floor must be in (0°, 180°) (got {f:?})"
                 )));
             }
         }
