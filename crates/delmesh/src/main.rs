@@ -419,6 +419,7 @@ fn mesh(args: &MeshArgs) -> Result<()> {
         },
         ..MeshOptions2::default()
     };
+    let mut points_first = 0;
     if let Some(path) = &args.points {
         let pts = delmesh::io::read_points(path)?;
         // Three columns are taken for a 2D mesh only in the plane z = 0 (as 2D meshes are
@@ -435,6 +436,7 @@ fn mesh(args: &MeshArgs) -> Result<()> {
             }
         }
         options.extra_points = (0..pts.len()).map(|i| pts.point2(i)).collect();
+        points_first = pts.first_index;
     }
     options.generation = (!args.no_points).then(|| PointGeneration {
         alpha: args.alpha,
@@ -480,8 +482,15 @@ fn mesh(args: &MeshArgs) -> Result<()> {
         Some(smoother)
     };
     options.delaunay_flips = !args.no_flips;
-    let run = mesh2d::mesh_plc(&plc, &options)
-        .map_err(|e| anyhow::anyhow!("{}: {}", args.input.display(), e))?;
+    let run = mesh2d::mesh_plc(&plc, &options).map_err(|e| {
+        let extra = args.points.as_deref().map(|p| (p, points_first));
+        name_the_file(
+            e,
+            &args.input,
+            plc.points.len() as u64 + u64::from(plc.first_index),
+            extra,
+        )
+    })?;
     let total: f64 = run.timings.iter().map(|t| t.1).sum();
     if args.quiet {
         eprintln!("mesh time: {total:.6} s");
@@ -499,6 +508,45 @@ fn mesh(args: &MeshArgs) -> Result<()> {
         eprintln!("validation: ok");
     }
     write_mesh_outputs(args, |out| Ok(run.write(out)?), &run.report_json())
+}
+
+/// A meshing error with the file it is about: the domain's, or for a point numbered from
+/// `first_extra` on (past the domain's points) the `--points` file `extra` (path and first
+/// index), with the point numbered as in that file (it was blamed on the domain's file, as a
+/// point the domain does not have).
+fn name_the_file(
+    e: delmesh::Error,
+    input: &Path,
+    first_extra: u64,
+    extra: Option<(&Path, u32)>,
+) -> anyhow::Error {
+    use delmesh::core::TriangulationError as T;
+    use delmesh::recovery::RecoveryError as R;
+    if let (Some((points, first)), delmesh::Error::Recovery(R::Triangulation(t))) = (extra, &e) {
+        let renumber = |index: usize| {
+            (index as u64 >= first_extra)
+                .then(|| (index as u64 - first_extra + u64::from(first)) as usize)
+        };
+        let moved = match *t {
+            T::NonFinite { index, axis, value } => {
+                renumber(index).map(|index| T::NonFinite { index, axis, value })
+            }
+            T::CoordinateRange {
+                index,
+                value,
+                largest,
+            } => renumber(index).map(|index| T::CoordinateRange {
+                index,
+                value,
+                largest,
+            }),
+            _ => None,
+        };
+        if let Some(t) = moved {
+            return anyhow::anyhow!("{}: {t}", points.display());
+        }
+    }
+    anyhow::anyhow!("{}: {e}", input.display())
 }
 
 /// The numbers of a `--source` value for a `dim`-dimensional mesh: one point (a point source)
@@ -587,6 +635,7 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
         },
         ..MeshOptions3::default()
     };
+    let mut points_first = 0;
     if let Some(path) = &args.points {
         let pts = delmesh::io::read_points(path)?;
         if pts.dim != 3 {
@@ -596,6 +645,7 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
             );
         }
         options.extra_points = (0..pts.len()).map(|i| pts.point3(i)).collect();
+        points_first = pts.first_index;
     }
     options.generation = (!args.no_points).then(|| PointGeneration3 {
         alpha: args.alpha,
@@ -633,8 +683,15 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
             growth,
         });
     }
-    let run = mesh3d::mesh_plc3(&plc, &options)
-        .map_err(|e| anyhow::anyhow!("{}: {}", args.input.display(), e))?;
+    let run = mesh3d::mesh_plc3(&plc, &options).map_err(|e| {
+        let extra = args.points.as_deref().map(|p| (p, points_first));
+        name_the_file(
+            e,
+            &args.input,
+            plc.points.len() as u64 + u64::from(plc.first_index),
+            extra,
+        )
+    })?;
     let total: f64 = run.timings.iter().map(|t| t.1).sum();
     if args.quiet {
         eprintln!("mesh time: {total:.6} s");

@@ -824,6 +824,14 @@ fn mesh_errors_name_the_file() {
         &["mesh", "sq.poly", "-o", "x.vtu", "--omega", "1e300"],
     ));
     assert!(msg.contains("(got 1e300)"), "{msg}");
+    // A bad point of --points is named in that file (it was blamed on the domain's file, as
+    // a point 10 it does not have).
+    std::fs::write(dir.path().join("p.txt"), "2 2\n1.5 1e-300\n").unwrap();
+    let msg = fails(&delmesh(
+        dir.path(),
+        &["mesh", "sq.poly", "-o", "x.vtu", "--points", "p.txt"],
+    ));
+    assert!(msg.contains("p.txt: point 1: coordinate 1e-300"), "{msg}");
     let msg = fails(&delmesh(
         dir.path(),
         &["mesh", "sq.poly", "-o", "x.vtu", "--alpha=-1"],
