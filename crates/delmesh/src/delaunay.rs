@@ -106,6 +106,22 @@ pub fn check_output_dir(out: &Path) -> Result<(), Error> {
     }))
 }
 
+/// Checks that none of the files `outputs` a run will write is a folder: outputs are written
+/// one after another, so one that fails last would leave the others replaced by a run that
+/// then exits with an error.
+///
+/// # Errors
+/// [`Error::Io`] naming the first output that is a folder.
+pub fn check_not_folders(outputs: &[PathBuf]) -> Result<(), Error> {
+    match outputs.iter().find(|f| f.is_dir()) {
+        Some(f) => Err(Error::Io(delmesh_io::IoError::InvalidInput {
+            file: f.clone(),
+            message: "this output is a folder; delmesh writes a file there".into(),
+        })),
+        None => Ok(()),
+    }
+}
+
 /// Checks that none of `outputs` is the file `input` (which a TetGen-family output beside its
 /// `.node` input would silently replace).
 ///

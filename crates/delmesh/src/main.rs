@@ -13,7 +13,8 @@ use std::process::ExitCode;
 use anyhow::Result;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use delmesh::delaunay::{
-    check_not_input, check_output_dir, triangulate_file, DelaunayRun, OutputFormat,
+    check_not_folders, check_not_input, check_output_dir, triangulate_file, DelaunayRun,
+    OutputFormat,
 };
 use delmesh::demos;
 use delmesh::io::AnyPoly;
@@ -284,6 +285,7 @@ fn delaunay(args: &DelaunayArgs) -> Result<()> {
         outputs.push(voronoi.clone());
     }
     check_not_input(&args.input, &outputs)?;
+    check_not_folders(&outputs)?;
     let run = triangulate_file(&args.input, !args.quiet)?;
     if args.quiet {
         eprintln!("build time: {:.6} s", run.build_seconds);
@@ -366,7 +368,7 @@ fn demo(args: &DemoArgs) -> Result<()> {
 }
 
 fn mesh(args: &MeshArgs) -> Result<()> {
-    for out in &args.output {
+    for out in args.output.iter().chain(&args.report) {
         check_output_dir(out)?;
     }
     check_mesh_files(args)?;
@@ -791,6 +793,7 @@ fn check_mesh_files(args: &MeshArgs) -> Result<()> {
     for input in &inputs {
         check_not_input(input, &files)?;
     }
+    check_not_folders(&files)?;
     // The same file named twice (an output that does not exist yet: by its folder and name).
     let key = |p: &Path| -> PathBuf {
         if let Ok(real) = p.canonicalize() {

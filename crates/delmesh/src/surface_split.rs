@@ -177,7 +177,16 @@ pub(crate) fn split_surface(
             out.triangles.push(SurfaceTriangle { v, ..*t });
         }
     }
+    mark_new_points(&mut out);
     Ok(Some(out))
+}
+
+/// Gives the points a split added marker 0, when the surface's points have markers (a Medit
+/// file's): the surface checks refused "353 point markers given for 758 points".
+fn mark_new_points(plc: &mut Plc3) {
+    if !plc.point_markers.is_empty() {
+        plc.point_markers.resize(plc.points.len(), 0);
+    }
 }
 
 /// Most surface triangles a surface spacing may ask for (before the field points): 2^24.
@@ -358,8 +367,19 @@ fn mesh_in_plane_with(
         let d = sub(q, p[0]);
         [dot(d, u), dot(d, w)]
     };
+    // Rounding in the projection leaves 1e-48 where a point on the frame's axis has 0: beside
+    // coordinates of 1e-1, a range the exact predicates refuse ("coordinate -2.05e-48 is more
+    // than 2^142 times smaller"). Such remainders, far below the projection's own rounding,
+    // are zero.
+    let mut local: Vec<[f64; 2]> = ids.iter().map(|&i| to_2d(points[i as usize])).collect();
+    let extent = local.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    for x in local.iter_mut().flatten() {
+        if x.abs() < extent * 2f64.powi(-100) {
+            *x = 0.0;
+        }
+    }
     let plc = Plc2 {
-        points: ids.iter().map(|&i| to_2d(points[i as usize])).collect(),
+        points: local,
         segments: segments
             .iter()
             .map(|&(a, b)| Segment {
@@ -630,6 +650,7 @@ pub(crate) fn remesh_surface(plc: &Plc3, sizing: &SurfaceSizing) -> Result<Optio
             });
         }
     }
+    mark_new_points(&mut out);
     Ok(Some(out))
 }
 

@@ -832,6 +832,21 @@ fn mesh_errors_name_the_file() {
         &["mesh", "sq.poly", "-o", "x.vtu", "--points", "p.txt"],
     ));
     assert!(msg.contains("p.txt: point 1: coordinate 1e-300"), "{msg}");
+    // An output that cannot be written is refused before anything is: a folder where a file
+    // goes, a report into a missing folder (the outputs before it were replaced, then the
+    // run failed).
+    std::fs::create_dir(dir.path().join("f.su2")).unwrap();
+    std::fs::write(dir.path().join("keep.vtu"), "old").unwrap();
+    for extra in [["-o", "f.su2"], ["--report", "none/r.json"]] {
+        let mut args = vec!["mesh", "sq.poly", "-o", "keep.vtu"];
+        args.extend(extra);
+        let msg = fails(&delmesh(dir.path(), &args));
+        assert!(msg.contains(extra[1]), "{msg}");
+        assert_eq!(
+            std::fs::read_to_string(dir.path().join("keep.vtu")).unwrap(),
+            "old"
+        );
+    }
     let msg = fails(&delmesh(
         dir.path(),
         &["mesh", "sq.poly", "-o", "x.vtu", "--alpha=-1"],
@@ -1430,4 +1445,49 @@ fn field_points_on_a_segment_or_off_the_plane_and_bad_option_values() {
         let msg = fails(&delmesh(dir.path(), &all));
         assert!(msg.contains(why), "{args:?}: {msg}");
     }
+}
+
+#[test]
+fn a_medit_surface_with_point_references_takes_a_surface_spacing() {
+    // The split points had no marker beside the file's per-vertex references: "the surface
+    // split to it fails the surface checks (a bug in delmesh): 4 point markers given for ...".
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("t.mesh"),
+        "MeshVersionFormatted 2\nDimension 3\nVertices\n4\n0 0 0 1\n1 0 0 2\n0 1 0 3\n0 0 1 4\n\
+         Triangles\n4\n1 3 2 1\n1 2 4 2\n2 3 4 3\n1 4 3 4\nEnd\n",
+    )
+    .unwrap();
+    let out = delmesh(
+        dir.path(),
+        &["mesh", "t.mesh", "-o", "t.ele", "--surface-spacing", "0.3"],
+    );
+    ok(&out);
+    let node = std::fs::read_to_string(dir.path().join("t.node")).unwrap();
+    let points: usize = node.split_whitespace().next().unwrap().parse().unwrap();
+    assert!(points > 4, "{node}");
+}
+
+#[test]
+fn a_gmsh_fillet_box_takes_a_surface_spacing() {
+    // A box with filleted edges, surface-meshed by gmsh and written by meshio (binary PLY).
+    // Meshing one of its planar patches in its own plane, rounding in the projection left
+    // -2e-48 where a point on the frame's axis has 0, which the in-plane triangulation
+    // refused beside coordinates of 0.08 (blamed on the input's point 3).
+    let dir = tempfile::tempdir().unwrap();
+    let surface = workspace_file("data/fillet-box-gmsh.ply");
+    let out = delmesh(
+        dir.path(),
+        &[
+            "mesh",
+            surface.to_str().unwrap(),
+            "-o",
+            "f.ele",
+            "--no-points",
+            "--surface-spacing",
+            "0.05",
+            "--validate",
+        ],
+    );
+    assert!(ok(&out).contains("validation: ok"));
 }

@@ -10,7 +10,8 @@
 //! 3D ([`write_foam`]): one cell per tetrahedron (positively oriented, as VTK's); the
 //! tetrahedra's faces are paired by their points. A boundary face takes the marker of the
 //! boundary triangle with the same points, and the boundary is one patch per marker, in
-//! increasing order, named as by [`TetMeshOut::marker_names`] or `marker_<m>`, of type
+//! increasing order, named as by [`TetMeshOut::marker_names`] (characters an OpenFOAM word
+//! cannot hold, such as spaces, replaced by `_`) or `marker_<m>`, of type
 //! `patch` (the case's boundary conditions say what each is); boundary faces without a
 //! triangle go to a last patch, `defaultFaces`. A boundary triangle between two tetrahedra
 //! (a wall between regions) is an internal face: OpenFOAM's boundary is only the domain's.
@@ -235,13 +236,22 @@ fn too_large(file: &Path, cells: usize) -> IoError {
     )
 }
 
-/// Whether `name` can name an OpenFOAM patch or zone (a `word`: no white space, quotes, slashes,
-/// semicolons, braces or parentheses).
-fn valid_word(name: &str) -> bool {
-    !name.is_empty()
-        && !name
-            .chars()
-            .any(|c| c.is_whitespace() || "\"'/\\;{}()".contains(c))
+/// `name` as an OpenFOAM patch or zone name (a `word`: no white space, quotes, slashes,
+/// semicolons, braces or parentheses), each character it cannot hold replaced by `_`: STL
+/// solid names such as gmsh's "Created by Gmsh" were refused, after all the meshing. `None`
+/// for an empty name (the patch is then `marker_<m>`).
+fn as_word(name: &str) -> Option<String> {
+    (!name.is_empty()).then(|| {
+        name.chars()
+            .map(|c| {
+                if c.is_whitespace() || "\"'/\\;{}()".contains(c) {
+                    '_'
+                } else {
+                    c
+                }
+            })
+            .collect()
+    })
 }
 
 /// The boundary patches of `markers` (sorted, distinct), checked, then `defaultFaces` if asked.
@@ -256,13 +266,8 @@ fn patches(
         .iter()
         .map(|&m| (m, name(m)))
         .chain(default.then(|| (0, "defaultFaces".to_string())));
-    for (m, name) in names {
-        if !valid_word(&name) {
-            return Err(IoError::invalid(
-                file,
-                format!("boundary marker {m}: {name:?} cannot name an OpenFOAM patch"),
-            ));
-        }
+    for (m, given) in names {
+        let name = as_word(&given).unwrap_or_else(|| format!("marker_{m}"));
         if out.iter().any(|p| p.name == name) {
             return Err(IoError::invalid(
                 file,

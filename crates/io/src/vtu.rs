@@ -525,6 +525,7 @@ fn fields(
 
 /// Serialises one inline piece as a `.vtu` file at `path`, atomically.
 fn export(path: &Path, piece: UnstructuredGridPiece) -> Result<(), IoError> {
+    let empty = piece.cells.types.is_empty();
     let vtk = Vtk {
         version: Version::new((1, 0)),
         title: String::new(),
@@ -535,13 +536,29 @@ fn export(path: &Path, piece: UnstructuredGridPiece) -> Result<(), IoError> {
             pieces: vec![Piece::Inline(Box::new(piece))],
         },
     };
+    let vtk_error = |e| match e {
+        vtkio::Error::IO(source) => IoError::io(path, source),
+        other => IoError::Vtk {
+            file: path.to_path_buf(),
+            message: other.to_string(),
+        },
+    };
+    if !empty {
+        return write_atomic(path, |w| vtk.write_xml(w).map_err(vtk_error));
+    }
+    // vtkio leaves `NumberOfCells` out of a piece without cells, which VTK (ParaView) and
+    // delmesh's own reader refuse: it is put back (the 3D Voronoi faces of a set with no
+    // bounded region).
+    let mut xml = Vec::new();
+    vtk.write_xml(&mut xml).map_err(vtk_error)?;
+    let xml = String::from_utf8_lossy(&xml);
+    let xml = if xml.contains("NumberOfCells=") {
+        xml.into_owned()
+    } else {
+        xml.replacen("<Piece ", "<Piece NumberOfCells=\"0\" ", 1)
+    };
     write_atomic(path, |w| {
-        vtk.write_xml(w).map_err(|e| match e {
-            vtkio::Error::IO(source) => IoError::io(path, source),
-            other => IoError::Vtk {
-                file: path.to_path_buf(),
-                message: other.to_string(),
-            },
-        })
+        w.write_all(xml.as_bytes())
+            .map_err(|e| IoError::io(path, e))
     })
 }

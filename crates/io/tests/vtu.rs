@@ -166,6 +166,16 @@ fn empty_mesh_is_written() {
     let piece = read_piece(&path);
     assert_eq!(piece.num_points(), 0);
     assert_eq!(piece.cells.num_cells(), 0);
+    // The piece says it has no cells (vtkio left `NumberOfCells` out, which VTK and
+    // delmesh's own reader refuse): the 3D Voronoi faces of 4 points, none bounded.
+    let faces = dir.path().join("no-faces.vtu");
+    write_vtu_polygons(&faces, 3, &[], &[], &[("point", &[])]).unwrap();
+    let text = std::fs::read_to_string(&faces).unwrap();
+    assert!(text.contains("<Piece NumberOfCells=\"0\""), "{text}");
+    for p in [&path, &faces] {
+        let m = delmesh_io::read_vtu(p).unwrap();
+        assert_eq!(m.coords.len(), 0);
+    }
 }
 
 #[test]
