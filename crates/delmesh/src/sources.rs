@@ -23,6 +23,7 @@ pub(crate) fn check_sources2(sources: &[Source], points: &[[f64; 2]]) -> Result<
     for (k, s) in sources.iter().enumerate() {
         let ends = [s.a, s.b].concat();
         check_values(k, &ends, s.h0, s.radius, s.growth)?;
+        check_reach(k, &[s.a, s.b], &lo, &hi)?;
         let reach = reach(s.h0, s.radius, s.growth);
         let length = (s.b[0] - s.a[0]).hypot(s.b[1] - s.a[1]);
         let core = std::f64::consts::PI * reach * reach + 2.0 * reach * length;
@@ -43,6 +44,7 @@ pub(crate) fn check_sources3(sources: &[Source3], points: &[[f64; 3]]) -> Result
     for (k, s) in sources.iter().enumerate() {
         let ends = [s.a, s.b].concat();
         check_values(k, &ends, s.h0, s.radius, s.growth)?;
+        check_reach(k, &[s.a, s.b], &lo, &hi)?;
         let reach = reach(s.h0, s.radius, s.growth);
         let d = [0, 1, 2].map(|i| s.b[i] - s.a[i]);
         let length = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
@@ -77,6 +79,39 @@ fn check_values(k: usize, ends: &[f64], h0: f64, radius: f64, growth: f64) -> Re
         ));
     }
     Ok(())
+}
+
+/// The farthest a source's end may lie from the domain, in multiples of the domain's size: the
+/// distances to a segment are computed from exact cross products of its ends' offsets, whose
+/// products overflow beyond about 1e150 (a line from -1e160 to 1e160 across a unit square
+/// split nothing and gave the wrong mesh).
+const FARTHEST: f64 = 1.0e120;
+
+fn check_reach<const N: usize>(
+    k: usize,
+    ends: &[[f64; N]; 2],
+    lo: &[f64; N],
+    hi: &[f64; N],
+) -> Result<(), Error> {
+    let size = (0..N).map(|i| hi[i] - lo[i]).fold(0.0, f64::max);
+    if !(size > 0.0 && size.is_finite()) {
+        return Ok(()); // (no domain to measure against: the pipeline reports that)
+    }
+    let away = |p: &[f64; N]| {
+        (0..N)
+            .map(|i| (p[i] - 0.5 * (lo[i] + hi[i])).abs())
+            .fold(0.0, f64::max)
+    };
+    match ends.iter().find(|p| away(p) > FARTHEST * size) {
+        Some(p) => Err(Error::Source {
+            number: k + 1,
+            reason: format!(
+                "an end, {p:?}, is more than {FARTHEST:e} times the domain's size ({size:e}) \
+                 from it; end the segment nearer the domain"
+            ),
+        }),
+        None => Ok(()),
+    }
 }
 
 fn check_count(k: usize, h0: f64, elements: f64, what: &str) -> Result<(), Error> {

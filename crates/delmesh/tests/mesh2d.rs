@@ -696,3 +696,45 @@ fn a_coordinate_range_error_names_the_input_coordinates() {
         "{err}"
     );
 }
+
+#[test]
+fn a_segment_source_with_far_ends_gives_the_mesh_of_its_part_in_the_domain() {
+    // The diagonal of the unit square as a source, and the same line from -1e100 to 1e100:
+    // every point of the square projects inside both, so the spacing, and the mesh, are the
+    // same. The projection a + t (b − a) lost the points' digits: the distance was 0 (and
+    // the side tests of far points were wrong), 2086 points instead of 601.
+    use delmesh::point_gen::Source;
+    let mut plc = Plc2::default();
+    square_loop(&mut plc, 0.0, 1.0, 1, false);
+    let run = |a: [f64; 2], b: [f64; 2]| {
+        let options = MeshOptions2 {
+            sources: vec![Source {
+                a,
+                b,
+                h0: 0.02,
+                radius: 0.05,
+                growth: 0.2,
+            }],
+            ..MeshOptions2::default()
+        };
+        mesh_plc(&plc, &options).unwrap()
+    };
+    let near = run([0.0, 0.0], [1.0, 1.0]);
+    check_run(&near, &plc, "diagonal source");
+    let far = run([-1e100, -1e100], [1e100, 1e100]);
+    assert_eq!(far.arrays.coords.len(), near.arrays.coords.len());
+    assert_eq!(far.arrays.triangles, near.arrays.triangles);
+    // Farther, the exact cross products would overflow: refused (it gave a wrong mesh).
+    let options = MeshOptions2 {
+        sources: vec![Source {
+            a: [-1e160, -1e160],
+            b: [1e160, 1e160],
+            h0: 0.02,
+            radius: 0.05,
+            growth: 0.2,
+        }],
+        ..MeshOptions2::default()
+    };
+    let err = mesh_plc(&plc, &options).unwrap_err().to_string();
+    assert!(err.contains("source 1: an end"), "{err}");
+}

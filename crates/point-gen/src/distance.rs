@@ -8,6 +8,7 @@
 //! it. These are constructions on spacing values, not topology: plain f64.
 
 use crate::spacing3::{cross, dist, dot, nearest_on_triangle, sub};
+use delmesh_predicates::{orient2d, orient2d_value, orient3d, orient3d_value, Sign};
 
 type P2 = [f64; 2];
 type P3 = [f64; 3];
@@ -16,38 +17,38 @@ fn sub2(a: P2, b: P2) -> P2 {
     [a[0] - b[0], a[1] - b[1]]
 }
 
-fn cross2(a: P2, b: P2) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
-
 fn dot2(a: P2, b: P2) -> f64 {
     a[0] * b[0] + a[1] * b[1]
 }
 
-/// Distance from `p` to the segment `a b` (a point if `a == b`).
+/// Distance from `p` to the segment `a b` (a point if `a == b`). Beside the segment, the
+/// distance to its line is the exact cross product (rounded once) over the length: the
+/// projection `a + t (b − a)` loses `p`'s digits when the ends are far from it (a source
+/// line from −1e100 to 1e100 across a unit square was at distance 0 from every point).
 pub(crate) fn point_segment2(p: P2, a: P2, b: P2) -> f64 {
     let (d, r) = (sub2(b, a), sub2(p, a));
     let len2 = dot2(d, d);
-    let t = if len2 > 0.0 {
-        (dot2(r, d) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (r[0] - t * d[0]).hypot(r[1] - t * d[1])
+    let t = if len2 > 0.0 { dot2(r, d) / len2 } else { 0.0 };
+    if t > 0.0 && t < 1.0 {
+        return orient2d_value(a, b, p).abs() / d[0].hypot(d[1]);
+    }
+    let e = if t >= 1.0 { b } else { a };
+    (p[0] - e[0]).hypot(p[1] - e[1])
 }
 
-/// Whether `p` is in the closed triangle `t` (either orientation).
+/// Whether `p` is in the closed triangle `t` (either orientation; exact).
 fn in_triangle2(p: P2, t: [P2; 3]) -> bool {
-    let s = [0, 1, 2].map(|i| cross2(sub2(t[(i + 1) % 3], t[i]), sub2(p, t[i])));
-    s.iter().all(|&x| x >= 0.0) || s.iter().all(|&x| x <= 0.0)
+    let s = [0, 1, 2].map(|i| orient2d(t[i], t[(i + 1) % 3], p));
+    s.iter().all(|&x| x != Sign::Negative) || s.iter().all(|&x| x != Sign::Positive)
 }
 
-/// Whether the closed segments `a b` and `c d` meet (proper crossings and touches).
+/// Whether the closed segments `a b` and `c d` meet (proper crossings and touches; the sides
+/// exact, as a point far away gets them wrong in floating point).
 fn segments_meet2(a: P2, b: P2, c: P2, d: P2) -> bool {
-    let side = |p: P2, q: P2, r: P2| cross2(sub2(q, p), sub2(r, p));
-    let (s1, s2) = (side(a, b, c), side(a, b, d));
-    let (s3, s4) = (side(c, d, a), side(c, d, b));
-    if s1 * s2 < 0.0 && s3 * s4 < 0.0 {
+    let opposite = |x: Sign, y: Sign| x != Sign::Zero && y == x.reversed();
+    let (s1, s2) = (orient2d(a, b, c), orient2d(a, b, d));
+    let (s3, s4) = (orient2d(c, d, a), orient2d(c, d, b));
+    if opposite(s1, s2) && opposite(s3, s4) {
         return true;
     }
     // Touching or collinear: an end on the other segment.
@@ -87,56 +88,64 @@ pub(crate) fn segment_triangle2(a: P2, b: P2, t: [P2; 3]) -> f64 {
     d
 }
 
-fn along(a: P3, d: P3, t: f64) -> P3 {
-    [a[0] + t * d[0], a[1] + t * d[1], a[2] + t * d[2]]
+/// Distance from `p` to the segment `a b` (a point if `a == b`), as [`point_segment2`]: beside
+/// the segment, the cross product's components are the exact 2D cross products of the three
+/// coordinate projections, rounded once.
+pub(crate) fn point_segment3(p: P3, a: P3, b: P3) -> f64 {
+    let (d, r) = (sub(b, a), sub(p, a));
+    let len2 = dot(d, d);
+    let t = if len2 > 0.0 { dot(r, d) / len2 } else { 0.0 };
+    if t > 0.0 && t < 1.0 {
+        let project = |i: usize, j: usize| orient2d_value([a[i], a[j]], [b[i], b[j]], [p[i], p[j]]);
+        let c = [project(1, 2), project(2, 0), project(0, 1)];
+        let norm = |v: P3| v[0].hypot(v[1]).hypot(v[2]);
+        return norm(c) / norm(d);
+    }
+    dist(p, if t >= 1.0 { b } else { a })
 }
 
 /// Distance between the segments `a b` and `c e` (either may be a point): the closest
-/// parameters, clamped to the segments.
+/// parameters, clamped to the segments. Where the closest points are inside both, the
+/// distance between the lines is the exact `orient3d` of the four ends, rounded once, over
+/// the cross product's length; elsewhere an end is nearest, [`point_segment3`]: the
+/// parametric points lose the digits of ends far away (a source line drawn from -1e100 to
+/// 1e100 through a sphere split its surface otherwise than the same line from -10 to 10).
 pub(crate) fn segment_segment3(a: P3, b: P3, c: P3, e: P3) -> f64 {
     let (d1, d2, r) = (sub(b, a), sub(e, c), sub(a, c));
     let (aa, ee, f) = (dot(d1, d1), dot(d2, d2), dot(d2, r));
-    let (s, t) = if aa == 0.0 && ee == 0.0 {
-        (0.0, 0.0)
-    } else if aa == 0.0 {
-        (0.0, (f / ee).clamp(0.0, 1.0))
-    } else {
-        let cc = dot(d1, r);
-        if ee == 0.0 {
-            ((-cc / aa).clamp(0.0, 1.0), 0.0)
-        } else {
-            let bb = dot(d1, d2);
-            let denom = aa * ee - bb * bb;
-            let s = if denom > 0.0 {
-                ((bb * f - cc * ee) / denom).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let t = (bb * s + f) / ee;
-            if t < 0.0 {
-                ((-cc / aa).clamp(0.0, 1.0), 0.0)
-            } else if t > 1.0 {
-                (((bb - cc) / aa).clamp(0.0, 1.0), 1.0)
-            } else {
-                (s, t)
+    if aa > 0.0 && ee > 0.0 {
+        let (bb, cc) = (dot(d1, d2), dot(d1, r));
+        let denom = aa * ee - bb * bb;
+        if denom > 0.0 {
+            let s = (bb * f - cc * ee) / denom;
+            let t = (aa * f - bb * cc) / denom;
+            if s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0 {
+                let n = cross(d1, d2);
+                let norm = (n[0].hypot(n[1])).hypot(n[2]);
+                if norm > 0.0 {
+                    return orient3d_value(a, b, c, e).abs() / norm;
+                }
             }
         }
-    };
-    dist(along(a, d1, s), along(c, d2, t))
+    }
+    point_segment3(a, c, e)
+        .min(point_segment3(b, c, e))
+        .min(point_segment3(c, a, b))
+        .min(point_segment3(e, a, b))
 }
 
 /// Distance from the segment `a b` (a point if `a == b`) to the triangle `t`.
 pub(crate) fn segment_triangle3(a: P3, b: P3, t: [P3; 3]) -> f64 {
-    let n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
-    let (da, db) = (dot(sub(a, t[0]), n), dot(sub(b, t[0]), n));
-    if da * db <= 0.0 && da != db {
-        // The segment meets the plane at x: inside the triangle, they meet.
-        let x = along(a, sub(b, a), da / (da - db));
-        let inside = (0..3).all(|i| {
-            let edge = sub(t[(i + 1) % 3], t[i]);
-            dot(cross(edge, sub(x, t[i])), n) >= 0.0
-        });
-        if inside {
+    // They meet where the ends are not strictly on one side of the plane and the segment's
+    // line passes the three edges turning one way (exact: the point where a segment with
+    // far ends meets the plane was lost to rounding, and seemed inside every triangle).
+    let (sa, sb) = (orient3d(t[0], t[1], t[2], a), orient3d(t[0], t[1], t[2], b));
+    if sa != sb || sa == Sign::Zero {
+        let s = [0, 1, 2].map(|i| orient3d(a, b, t[i], t[(i + 1) % 3]));
+        let coplanar = sa == Sign::Zero && sb == Sign::Zero;
+        if !coplanar
+            && (s.iter().all(|&x| x != Sign::Negative) || s.iter().all(|&x| x != Sign::Positive))
+        {
             return 0.0;
         }
     }
@@ -147,16 +156,17 @@ pub(crate) fn segment_triangle3(a: P3, b: P3, t: [P3; 3]) -> f64 {
     d
 }
 
-/// Whether `p` is in the closed tetrahedron `t` (either orientation).
+/// Whether `p` is in the closed tetrahedron `t` (either orientation; exact: the volumes of a
+/// point far away, a segment source's end, come out of either sign in floating point, and
+/// every tetrahedron then seemed to hold it).
 fn in_tetrahedron(p: P3, t: [P3; 4]) -> bool {
-    let volume = |a: P3, b: P3, c: P3, d: P3| dot(sub(b, a), cross(sub(c, a), sub(d, a)));
     let s = [
-        volume(p, t[1], t[2], t[3]),
-        volume(t[0], p, t[2], t[3]),
-        volume(t[0], t[1], p, t[3]),
-        volume(t[0], t[1], t[2], p),
+        orient3d(p, t[1], t[2], t[3]),
+        orient3d(t[0], p, t[2], t[3]),
+        orient3d(t[0], t[1], p, t[3]),
+        orient3d(t[0], t[1], t[2], p),
     ];
-    s.iter().all(|&x| x >= 0.0) || s.iter().all(|&x| x <= 0.0)
+    s.iter().all(|&x| x != Sign::Negative) || s.iter().all(|&x| x != Sign::Positive)
 }
 
 /// Distance from the segment `a b` (a point if `a == b`) to the tetrahedron `t` (0 if they
@@ -181,13 +191,20 @@ mod tests {
         let t = [[0.0, 0.0], [4.0, 0.0], [0.0, 4.0]];
         assert_eq!(segment_triangle2([1.0, 1.0], [1.0, 1.0], t), 0.0);
         assert_eq!(segment_triangle2([-1.0, 0.0], [-1.0, 0.0], t), 1.0);
-        assert_eq!(segment_triangle2([3.0, 3.0], [3.0, 3.0], t), 2f64.sqrt());
+        // (|cross| / length: 8 / √32, within an ulp of √2.)
+        assert!((segment_triangle2([3.0, 3.0], [3.0, 3.0], t) - 2f64.sqrt()).abs() < 1e-15);
         // A segment through the triangle with both ends outside.
         assert_eq!(segment_triangle2([-1.0, 1.0], [5.0, 1.0], t), 0.0);
         // A segment beside the hypotenuse.
         assert!((segment_triangle2([5.0, 1.0], [1.0, 5.0], t) - 2f64.sqrt()).abs() < 1e-15);
         // A corner is nearest.
         assert_eq!(segment_triangle2([-1.0, -3.0], [-1.0, 3.0], t), 1.0);
+        // Ends far away: the same as the part beside the triangle (the projection lost the
+        // digits of the triangle's points: distance 0, or worse).
+        for far in [1e8, 1e50, 1e100] {
+            let d = segment_triangle2([-far, 5.0], [far, 5.0], t);
+            assert_eq!(d, 1.0, "{far}");
+        }
     }
 
     #[test]
@@ -211,5 +228,19 @@ mod tests {
         );
         // A segment passing an edge at distance 1.
         assert!((segment_tetrahedron([-1.0, -1.0, 2.0], [1.0, -1.0, 2.0], t) - 1.0).abs() < 1e-15);
+        // The same line with far ends (every tetrahedron seemed to hold an end 1e8 away, and
+        // the parametric closest points lost the tetrahedron's digits).
+        for far in [1e8, 1e50, 1e100] {
+            let d = segment_tetrahedron([-far, -1.0, 2.0], [far, -1.0, 2.0], t);
+            assert!((d - 1.0).abs() < 1e-15, "{far}: {d}");
+            let q = crate::Source3 {
+                a: [-far, -1.0, 2.0],
+                b: [far, -1.0, 2.0],
+                h0: 1.0,
+                radius: 0.0,
+                growth: 1.0,
+            };
+            assert!((q.spacing([0.0, 0.0, 2.0]) - 2.0).abs() < 1e-15, "{far}");
+        }
     }
 }

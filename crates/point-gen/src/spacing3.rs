@@ -705,7 +705,7 @@ impl Source3 {
 
     /// The spacing this source asks for at `p`.
     pub fn spacing(&self, p: P) -> f64 {
-        let d = dist(p, nearest_on_segment(p, self.a, self.b));
+        let d = crate::distance::point_segment3(p, self.a, self.b);
         self.h0 + self.growth * (d - self.radius).max(0.0)
     }
 
