@@ -92,10 +92,10 @@ impl Flatness {
 /// largest face) is at most `flatness` of its largest coordinate (see [`Flatness`]), and at
 /// most [`Flatness::bend`] of that face's width (twice its area over the longest edge), so
 /// that the triangles bend by less than about that many radians; exactly coplanar points
-/// always pass.
-/// Merging such triangles moves the surface by less than that thickness. (Without the bend
-/// test, the sides of a hexagonal prism of radius 1 and length 1e12, meeting at 120° but
-/// thinner than 2^-40 of the coordinates, were merged and the prism lost 11% of its volume.)
+/// always pass. Merging such triangles moves the surface by less than that thickness.
+/// (Without the bend test, the sides of a hexagonal prism of radius 1 and length 1e12,
+/// meeting at 120° but thinner than 2^-40 of the coordinates, were merged and the prism lost
+/// 11% of its volume.)
 pub(crate) fn nearly_flat(
     a: [f64; 3],
     b: [f64; 3],
