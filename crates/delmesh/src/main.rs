@@ -484,15 +484,9 @@ fn mesh(args: &MeshArgs) -> Result<()> {
         Some(smoother)
     };
     options.delaunay_flips = !args.no_flips;
-    let run = mesh2d::mesh_plc(&plc, &options).map_err(|e| {
-        let extra = args.points.as_deref().map(|p| (p, points_first));
-        name_the_file(
-            e,
-            &args.input,
-            plc.points.len() as u64 + u64::from(plc.first_index),
-            extra,
-        )
-    })?;
+    let first_extra = plc.points.len() as u64 + u64::from(plc.first_index);
+    let run = mesh2d::mesh_plc(&plc, &options)
+        .map_err(|e| name_the_file(e, args, first_extra, points_first))?;
     let total: f64 = run.timings.iter().map(|t| t.1).sum();
     if args.quiet {
         eprintln!("mesh time: {total:.6} s");
@@ -513,21 +507,21 @@ fn mesh(args: &MeshArgs) -> Result<()> {
 }
 
 /// A meshing error with the file it is about: the domain's, or for a point numbered from
-/// `first_extra` on (past the domain's points) the `--points` file `extra` (path and first
-/// index), with the point numbered as in that file (it was blamed on the domain's file, as a
-/// point the domain does not have).
+/// `first_extra` on (past the domain's points) the `--points` file, whose points are numbered
+/// from `points_first`, with the point numbered as there (it was blamed on the domain's file,
+/// as a point the domain does not have).
 fn name_the_file(
     e: delmesh::Error,
-    input: &Path,
+    args: &MeshArgs,
     first_extra: u64,
-    extra: Option<(&Path, u32)>,
+    points_first: u32,
 ) -> anyhow::Error {
     use delmesh::core::TriangulationError as T;
     use delmesh::recovery::RecoveryError as R;
-    if let (Some((points, first)), delmesh::Error::Recovery(R::Triangulation(t))) = (extra, &e) {
+    if let (Some(points), delmesh::Error::Recovery(R::Triangulation(t))) = (&args.points, &e) {
         let renumber = |index: usize| {
             (index as u64 >= first_extra)
-                .then(|| (index as u64 - first_extra + u64::from(first)) as usize)
+                .then(|| (index as u64 - first_extra + u64::from(points_first)) as usize)
         };
         let moved = match *t {
             T::NonFinite { index, axis, value } => {
@@ -548,7 +542,7 @@ fn name_the_file(
             return anyhow::anyhow!("{}: {t}", points.display());
         }
     }
-    anyhow::anyhow!("{}: {e}", input.display())
+    anyhow::anyhow!("{}: {e}", args.input.display())
 }
 
 /// The numbers of a `--source` value for a `dim`-dimensional mesh: one point (a point source)
@@ -685,15 +679,9 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
             growth,
         });
     }
-    let run = mesh3d::mesh_plc3(&plc, &options).map_err(|e| {
-        let extra = args.points.as_deref().map(|p| (p, points_first));
-        name_the_file(
-            e,
-            &args.input,
-            plc.points.len() as u64 + u64::from(plc.first_index),
-            extra,
-        )
-    })?;
+    let first_extra = plc.points.len() as u64 + u64::from(plc.first_index);
+    let run = mesh3d::mesh_plc3(&plc, &options)
+        .map_err(|e| name_the_file(e, args, first_extra, points_first))?;
     let total: f64 = run.timings.iter().map(|t| t.1).sum();
     if args.quiet {
         eprintln!("mesh time: {total:.6} s");

@@ -140,12 +140,10 @@ pub(crate) fn segment_triangle3(a: P3, b: P3, t: [P3; 3]) -> f64 {
     // line passes the three edges turning one way (exact: the point where a segment with
     // far ends meets the plane was lost to rounding, and seemed inside every triangle).
     let (sa, sb) = (orient3d(t[0], t[1], t[2], a), orient3d(t[0], t[1], t[2], b));
-    if sa != sb || sa == Sign::Zero {
+    // (Both on the plane, coplanar, is left to the distances to the edges.)
+    if sa != sb {
         let s = [0, 1, 2].map(|i| orient3d(a, b, t[i], t[(i + 1) % 3]));
-        let coplanar = sa == Sign::Zero && sb == Sign::Zero;
-        if !coplanar
-            && (s.iter().all(|&x| x != Sign::Negative) || s.iter().all(|&x| x != Sign::Positive))
-        {
+        if s.iter().all(|&x| x != Sign::Negative) || s.iter().all(|&x| x != Sign::Positive) {
             return 0.0;
         }
     }
