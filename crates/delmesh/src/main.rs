@@ -62,6 +62,7 @@ enum RecoveryArg {
 }
 
 #[derive(Args, Debug)]
+#[command(group(clap::ArgGroup::new("field_mesh").args(["background", "adapt"])))]
 struct MeshArgs {
     /// The domain: a Triangle .poly file (points, segments with markers, holes, regions with
     /// attributes and area limits, honoured when points are generated), or a
@@ -116,13 +117,23 @@ struct MeshArgs {
     #[arg(long, value_name = "MESH", requires_all = ["min_spacing", "max_spacing"])]
     adapt: Option<PathBuf>,
     /// The point field of --background (default `spacing`) or --adapt.
-    #[arg(long, value_name = "NAME")]
+    #[arg(long, value_name = "NAME", requires = "field_mesh")]
     field: Option<String>,
     /// Smallest spacing of --adapt.
-    #[arg(long, value_name = "H", allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "H",
+        allow_negative_numbers = true,
+        requires = "adapt"
+    )]
     min_spacing: Option<f64>,
     /// Largest spacing of --adapt.
-    #[arg(long, value_name = "H", allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "H",
+        allow_negative_numbers = true,
+        requires = "adapt"
+    )]
     max_spacing: Option<f64>,
     /// A spacing source: spacing H0 within RADIUS of a point or a segment, growing by GROWTH
     /// per unit distance beyond; the spacing is the smallest of the field's and the sources'.
@@ -298,11 +309,15 @@ fn delaunay(args: &DelaunayArgs) -> Result<()> {
             .map_err(|e| anyhow::anyhow!("{}: validation failed: {e}", args.input.display()))?;
         eprintln!("validation: ok ({:.3} s)", t0.elapsed().as_secs_f64());
     }
-    let mut written = run.write(&args.output)?;
-    if let Some(voronoi) = &args.voronoi {
-        run.write_voronoi(voronoi)?;
-        written.push(voronoi.clone());
-    }
+    // The mesh and its Voronoi diagram are replaced together or not at all.
+    let written = delmesh::io::transaction(|| {
+        let mut written = run.write(&args.output)?;
+        if let Some(voronoi) = &args.voronoi {
+            run.write_voronoi(voronoi)?;
+            written.push(voronoi.clone());
+        }
+        anyhow::Ok(written)
+    })?;
     if !args.quiet {
         print_written(&written);
     }
@@ -818,20 +833,24 @@ fn write_mesh_outputs(
     write: impl Fn(&std::path::Path) -> Result<Vec<PathBuf>>,
     report_json: &str,
 ) -> Result<()> {
-    let mut written = Vec::new();
-    for out in &args.output {
-        written.extend(write(out)?);
-    }
-    if let Some(report) = &args.report {
-        delmesh::io::write_atomic(report, |w| {
-            w.write_all(report_json.as_bytes())
-                .map_err(|e| delmesh::io::IoError::Io {
-                    file: report.clone(),
-                    source: e,
-                })
-        })?;
-        written.push(report.clone());
-    }
+    // All replaced together or not at all: a full disk on the last file leaves every old one.
+    let written = delmesh::io::transaction(|| {
+        let mut written = Vec::new();
+        for out in &args.output {
+            written.extend(write(out)?);
+        }
+        if let Some(report) = &args.report {
+            delmesh::io::write_atomic(report, |w| {
+                w.write_all(report_json.as_bytes())
+                    .map_err(|e| delmesh::io::IoError::Io {
+                        file: report.clone(),
+                        source: e,
+                    })
+            })?;
+            written.push(report.clone());
+        }
+        anyhow::Ok(written)
+    })?;
     if !args.quiet {
         print_written(&written);
     }

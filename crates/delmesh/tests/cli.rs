@@ -737,6 +737,26 @@ fn mesh_a_poly_file_to_every_format() {
         ],
     );
     ok(&out);
+    // A field, or adaptation's bounds, without the mesh they belong to is refused (--field
+    // alone was ignored: the boundary's spacing was used without a word).
+    for extra in [
+        &["--field", "spacing"][..],
+        &["--min-spacing", "0.05", "--max-spacing", "0.5"],
+        &["--background", "m.vtu", "--min-spacing", "0.05"],
+    ] {
+        let mut args = vec!["mesh", "sq.poly", "-o", "f.vtu"];
+        args.extend_from_slice(extra);
+        // (A usage error: clap's exit status 2 and its usage text.)
+        let out = delmesh(dir.path(), &args);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {err}");
+        assert!(
+            err.contains("required arguments were not provided"),
+            "{err}"
+        );
+        assert!(err.contains("--adapt <MESH>"), "{extra:?}: {err}");
+        assert!(!dir.path().join("f.vtu").exists());
+    }
 }
 
 #[test]

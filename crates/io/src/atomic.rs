@@ -7,7 +7,14 @@
 //! itself is not synced: a power cut right after may leave the previous file under the name,
 //! never a partial one. On any error, or a panic in the writing closure, the temporary file is
 //! removed and the destination is left exactly as it was.
+//!
+//! A mesh is often several files (`.node/.ele/.face`, an OpenFOAM `polyMesh` folder, a mesh and
+//! its report): inside a [`transaction`], every file is written and synced first and the renames
+//! wait for its end, so a full disk half-way through leaves all the old files, not a mix of old
+//! and new ones. (A rename itself failing half-way through the commit, which takes a file system
+//! that stops accepting renames in the same folder, would still leave a mix; it is reported.)
 
+use std::cell::RefCell;
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -32,14 +39,68 @@ impl Drop for TempGuard {
     }
 }
 
+/// A change to the destination folder waiting for its commit.
+pub(crate) struct Staged(Change);
+
+/// A file written and synced under a temporary name (removed if dropped uncommitted), or a
+/// stale file to remove.
+enum Change {
+    /// Rename the temporary file to `dest`.
+    Write {
+        /// The temporary file.
+        temp: TempGuard,
+        /// Its final name.
+        dest: PathBuf,
+    },
+    /// Remove this file if it is there.
+    Remove(PathBuf),
+}
+
+impl Staged {
+    /// The removal of `path` (if it is there) as a change to commit.
+    pub(crate) fn removal(path: PathBuf) -> Staged {
+        Staged(Change::Remove(path))
+    }
+
+    fn commit(self) -> Result<(), IoError> {
+        match self.0 {
+            Change::Write { mut temp, dest } => {
+                std::fs::rename(&temp.path, &dest).map_err(|e| IoError::io(&dest, e))?;
+                temp.armed = false;
+            }
+            Change::Remove(path) => match std::fs::remove_file(&path) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                    return Err(IoError::io(&path, e))
+                }
+                _ => {}
+            },
+        }
+        Ok(())
+    }
+}
+
+thread_local! {
+    /// The changes of this thread's open [`transaction`], if one is open.
+    static OPEN: RefCell<Option<Vec<Staged>>> = const { RefCell::new(None) };
+}
+
 /// Writes a file atomically: `write` fills a buffered temporary file in the same directory as
 /// `path` (named `<file name>.tmp-<pid>-<n>`), which is then flushed, synced to disk and renamed
-/// to `path`.
+/// to `path` (at the end of the [`transaction`] if one is open on this thread).
 ///
 /// On any error (from `write`, or from the file system) the temporary file is removed and
 /// `path` is untouched: it keeps its old contents, or still does not exist. Errors from the
 /// file system are reported as [`IoError::Io`] naming `path`.
 pub fn write_atomic<F>(path: &Path, write: F) -> Result<(), IoError>
+where
+    F: FnOnce(&mut dyn Write) -> Result<(), IoError>,
+{
+    settle(vec![stage(path, write)?])
+}
+
+/// Writes and syncs `path`'s temporary file (see [`write_atomic`]), without the rename: on
+/// any thread, for [`settle`] on the thread that owns the transaction.
+pub(crate) fn stage<F>(path: &Path, write: F) -> Result<Staged, IoError>
 where
     F: FnOnce(&mut dyn Write) -> Result<(), IoError>,
 {
@@ -64,7 +125,7 @@ where
         .create_new(true)
         .open(&tmp_path)
         .map_err(io_err)?;
-    let mut guard = TempGuard {
+    let guard = TempGuard {
         path: tmp_path,
         armed: true,
     };
@@ -73,13 +134,64 @@ where
     write(&mut out)?;
     let file: File = out.into_inner().map_err(|e| io_err(e.into_error()))?;
     file.sync_all().map_err(io_err)?;
-    drop(file);
-    std::fs::rename(&guard.path, path).map_err(io_err)?;
-    guard.armed = false;
     // The directory is not synced: after a power cut the name may still show the previous
     // file, complete, but never a partial new one (the data was synced before the rename).
     // Syncing it cost 0.15 ms per file, a twentieth of a small run.
+    Ok(Staged(Change::Write {
+        temp: guard,
+        dest: path.to_path_buf(),
+    }))
+}
+
+/// Commits `changes` in order now, or adds them to this thread's open [`transaction`].
+pub(crate) fn settle(changes: Vec<Staged>) -> Result<(), IoError> {
+    let now = OPEN.with(|open| match open.borrow_mut().as_mut() {
+        Some(pending) => {
+            pending.extend(changes);
+            Vec::new()
+        }
+        None => changes,
+    });
+    commit_all(now)
+}
+
+/// Commits `changes` in order; after a failure the rest are dropped (their temporary files
+/// removed).
+fn commit_all(changes: Vec<Staged>) -> Result<(), IoError> {
+    for change in changes {
+        change.commit()?;
+    }
     Ok(())
+}
+
+/// Runs `f` with every file write on this thread staged (see [`write_atomic`]) and commits
+/// them all, in order, only if `f` succeeds: if it fails (a full disk on the third file, a bad
+/// value in the last), or panics, no destination has changed and no temporary file is left.
+/// A transaction opened inside another joins it.
+///
+/// # Errors
+/// `f`'s error, or a rename's at the commit.
+pub fn transaction<T, E: From<IoError>>(f: impl FnOnce() -> Result<T, E>) -> Result<T, E> {
+    if OPEN.with(|open| open.borrow().is_some()) {
+        return f();
+    }
+    /// Closes the transaction however `f` ends, dropping (removing) what was not committed.
+    struct Close;
+    impl Drop for Close {
+        fn drop(&mut self) {
+            let pending = OPEN.with(|open| open.borrow_mut().take());
+            drop(pending);
+        }
+    }
+    OPEN.with(|open| *open.borrow_mut() = Some(Vec::new()));
+    let close = Close;
+    let value = f()?;
+    let pending = OPEN
+        .with(|open| open.borrow_mut().take())
+        .unwrap_or_default();
+    drop(close);
+    commit_all(pending)?;
+    Ok(value)
 }
 
 #[cfg(test)]
@@ -179,5 +291,82 @@ mod tests {
         assert!(matches!(err, IoError::InvalidInput { .. }), "{err:?}");
         let err = write_atomic(Path::new(".."), |_| Ok(())).unwrap_err();
         assert!(matches!(err, IoError::InvalidInput { .. }), "{err:?}");
+    }
+
+    fn write_text(path: &Path, text: &str) -> Result<(), IoError> {
+        write_atomic(path, |w| {
+            w.write_all(text.as_bytes())
+                .map_err(|e| IoError::io(path, e))
+        })
+    }
+
+    #[test]
+    fn transaction_replaces_all_files_or_none() {
+        let dir = tempfile::tempdir().unwrap();
+        let [a, b, c] = ["a.txt", "b.txt", "c.txt"].map(|n| dir.path().join(n));
+        std::fs::write(&a, "old a\n").unwrap();
+        std::fs::write(&b, "old b\n").unwrap();
+        // The third file fails after the first two were written: neither is replaced, no
+        // temporary file is left, and the error is the third's.
+        let err = transaction(|| {
+            write_text(&a, "new a\n")?;
+            write_text(&b, "new b\n")?;
+            assert_eq!(std::fs::read_to_string(&a).unwrap(), "old a\n");
+            write_atomic(&c, |_| Err(IoError::invalid(&c, "disk full")))
+        })
+        .unwrap_err();
+        assert!(err.to_string().contains("disk full"), "{err}");
+        assert_eq!(std::fs::read_to_string(&a).unwrap(), "old a\n");
+        assert_eq!(std::fs::read_to_string(&b).unwrap(), "old b\n");
+        assert_eq!(dir_entries(dir.path()), vec!["a.txt", "b.txt"]);
+        // Success replaces them all; a nested transaction joins the outer one.
+        let value = transaction(|| {
+            write_text(&a, "new a\n")?;
+            transaction(|| write_text(&b, "new b\n"))?;
+            assert!(!c.exists());
+            write_text(&c, "new c\n")?;
+            Ok::<_, IoError>(7)
+        })
+        .unwrap();
+        assert_eq!(value, 7);
+        for (p, t) in [(&a, "new a\n"), (&b, "new b\n"), (&c, "new c\n")] {
+            assert_eq!(std::fs::read_to_string(p).unwrap(), t);
+        }
+        assert_eq!(dir_entries(dir.path()), vec!["a.txt", "b.txt", "c.txt"]);
+        // Outside a transaction each write is committed at once again.
+        write_text(&a, "last a\n").unwrap();
+        assert_eq!(std::fs::read_to_string(&a).unwrap(), "last a\n");
+    }
+
+    #[test]
+    fn transaction_panic_and_removals() {
+        let dir = tempfile::tempdir().unwrap();
+        let [a, stale] = ["a.txt", "stale"].map(|n| dir.path().join(n));
+        std::fs::write(&a, "old a\n").unwrap();
+        std::fs::write(&stale, "zones\n").unwrap();
+        let result = std::panic::catch_unwind(|| {
+            let _ = transaction(|| {
+                write_text(&a, "new a\n")?;
+                settle(vec![Staged::removal(stale.clone())])?;
+                panic!("boom");
+                #[allow(unreachable_code)]
+                Ok::<_, IoError>(())
+            });
+        });
+        assert!(result.is_err());
+        assert_eq!(std::fs::read_to_string(&a).unwrap(), "old a\n");
+        assert_eq!(dir_entries(dir.path()), vec!["a.txt", "stale"]);
+        // The thread's transaction was closed by the panic: this write is committed at once.
+        write_text(&a, "new a\n").unwrap();
+        assert_eq!(std::fs::read_to_string(&a).unwrap(), "new a\n");
+        // A removal is committed with the writes (and a missing file is no error).
+        transaction(|| {
+            settle(vec![Staged::removal(stale.clone())])?;
+            settle(vec![Staged::removal(dir.path().join("never"))])?;
+            assert!(stale.exists());
+            Ok::<_, IoError>(())
+        })
+        .unwrap();
+        assert_eq!(dir_entries(dir.path()), vec!["a.txt"]);
     }
 }

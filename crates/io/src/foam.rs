@@ -28,7 +28,7 @@ use std::collections::HashMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crate::atomic::write_atomic;
+use crate::atomic::{settle, stage, Staged};
 use crate::tetmesh::TetMeshOut;
 use crate::text::{format_f64, write_f64, write_u64};
 use crate::triangle::TriangleMeshOut;
@@ -567,10 +567,11 @@ fn write_poly_mesh(dir: &Path, mesh: &PolyMesh) -> Result<Vec<PathBuf>, IoError>
         ));
     }
     let paths: Vec<PathBuf> = files.iter().map(|(name, _)| dir.join(name)).collect();
-    let write = |path: &Path, body: &Body| {
-        write_atomic(path, |w| body(w).map_err(|e| IoError::io(path, e)))
-    };
-    let done: Vec<Result<(), IoError>> = std::thread::scope(|scope| {
+    // Written side by side (their syncs overlap), renamed together once all are on disk, with
+    // the stale zones removed at the same time.
+    let write =
+        |path: &Path, body: &Body| stage(path, |w| body(w).map_err(|e| IoError::io(path, e)));
+    let done: Vec<Result<Staged, IoError>> = std::thread::scope(|scope| {
         let threads: Vec<_> = paths[1..]
             .iter()
             .zip(&files[1..])
@@ -584,18 +585,17 @@ fn write_poly_mesh(dir: &Path, mesh: &PolyMesh) -> Result<Vec<PathBuf>, IoError>
             }))
             .collect()
     });
-    for d in done {
-        d?;
-    }
+    let mut staged = done.into_iter().collect::<Result<Vec<_>, _>>()?;
     // Zones number cells, faces and points: a previous mesh's in the directory would name
     // this one's wrongly, and every solver reads them. (OpenFOAM's own mesh writers remove
     // them too.)
     for stale in ["cellZones", "faceZones", "pointZones"] {
         let path = dir.join(stale);
         if !paths.contains(&path) && path.is_file() {
-            std::fs::remove_file(&path).map_err(|e| IoError::io(&path, e))?;
+            staged.push(Staged::removal(path));
         }
     }
+    settle(staged)?;
     Ok(paths)
 }
 

@@ -15,7 +15,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crate::atomic::write_atomic;
+use crate::atomic::{transaction, write_atomic};
 use crate::model::{check_first_index, check_points};
 use crate::text::{data_lines, last_line, parse_coord, read_text, shorten, write_f64, DataLines};
 use crate::{IoError, PointSet, SimplexMesh};
@@ -334,13 +334,18 @@ pub fn write_tetgen_family(
     };
     let node_path = with_ext("node");
     let ele_path = with_ext("ele");
-    write_node(&node_path, mesh.dim, mesh.coords, first_index)?;
-    write_ele(&ele_path, mesh, first_index)?;
     let mut written = vec![node_path, ele_path];
     if mesh.neighbors.is_some() {
-        let neigh_path = with_ext("neigh");
-        write_neigh(&neigh_path, mesh, first_index)?;
-        written.push(neigh_path);
+        written.push(with_ext("neigh"));
     }
+    // Replaced together or not at all.
+    transaction(|| {
+        write_node(&written[0], mesh.dim, mesh.coords, first_index)?;
+        write_ele(&written[1], mesh, first_index)?;
+        match written.get(2) {
+            Some(neigh) => write_neigh(neigh, mesh, first_index),
+            None => Ok(()),
+        }
+    })?;
     Ok(written)
 }

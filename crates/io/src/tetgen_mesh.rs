@@ -11,7 +11,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crate::atomic::write_atomic;
+use crate::atomic::{settle, stage};
 use crate::model::check_first_index;
 use crate::tetmesh::{sibling, TetMeshOut};
 use crate::text::{write_f64, write_u64};
@@ -31,19 +31,20 @@ pub fn write_tetgen_mesh(
         ["node", "ele", "face"].map(|e| sibling(path, &["node", "ele", "face"], e));
     let base = u64::from(first_index);
     // The three files are independent: written side by side, so that their syncs to disk
-    // overlap (on a small mesh they take longer than the writing).
+    // overlap (on a small mesh they take longer than the writing); renamed together, once all
+    // three are on disk.
     let write_node = || {
-        write_atomic(&node, |w| {
+        stage(&node, |w| {
             node_body(w, mesh, base).map_err(|e| IoError::io(&node, e))
         })
     };
     let write_face = || {
-        write_atomic(&face, |w| {
+        stage(&face, |w| {
             face_body(w, mesh, base).map_err(|e| IoError::io(&face, e))
         })
     };
     let write_ele = || {
-        write_atomic(&ele, |w| {
+        stage(&ele, |w| {
             ele_body(w, mesh, base).map_err(|e| IoError::io(&ele, e))
         })
     };
@@ -53,13 +54,15 @@ pub fn write_tetgen_mesh(
         let ele_done = write_ele();
         (node_thread.join(), face_thread.join(), ele_done)
     });
+    let mut staged = Vec::with_capacity(3);
     for done in [node_done, face_done] {
         match done {
-            Ok(done) => done?,
+            Ok(done) => staged.push(done?),
             Err(panic) => std::panic::resume_unwind(panic),
         }
     }
-    ele_done?;
+    staged.push(ele_done?);
+    settle(staged)?;
     Ok(vec![node, ele, face])
 }
 

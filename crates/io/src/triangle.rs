@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::atomic::write_atomic;
+use crate::atomic::{transaction, write_atomic};
 use crate::model::{check_first_index, check_points};
 use crate::node::read_node;
 use crate::text::{data_lines, last_line, read_text, shorten, write_f64};
@@ -70,8 +70,9 @@ impl TriangleMeshOut<'_> {
 }
 
 /// Writes `X.node`, `X.ele` and `X.edge` beside `ele_path` (`X` is the path without its `.ele`
-/// extension), numbered from `first_index` (0 or 1). Returns the paths written. Each file is
-/// atomic; everything is checked before the first is written.
+/// extension), numbered from `first_index` (0 or 1). Returns the paths written. The three
+/// files are replaced together or not at all (a [`crate::transaction`]); everything is checked
+/// before the first is written.
 pub fn write_triangle_family(
     ele_path: &Path,
     mesh: &TriangleMeshOut<'_>,
@@ -79,8 +80,6 @@ pub fn write_triangle_family(
 ) -> Result<Vec<PathBuf>, IoError> {
     mesh.check(ele_path)?;
     check_first_index(ele_path, first_index)?;
-    let np = mesh.coords.len() / 2;
-    let nt = mesh.triangles.len() / 3;
     let stem = if ele_path.extension().is_some_and(|e| e == "ele") {
         ele_path.with_extension("")
     } else {
@@ -94,7 +93,18 @@ pub fn write_triangle_family(
     };
     let base = u64::from(first_index);
     let (node, ele, edge) = (with_ext("node"), with_ext("ele"), with_ext("edge"));
-    write_atomic(&node, |w| {
+    transaction(|| write_files(mesh, base, [&node, &ele, &edge]))?;
+    Ok(vec![node, ele, edge])
+}
+
+/// The files of [`write_triangle_family`]: `.node`, `.ele`, `.edge`, numbered from `base`.
+fn write_files(
+    mesh: &TriangleMeshOut<'_>,
+    base: u64,
+    [node, ele, edge]: [&Path; 3],
+) -> Result<(), IoError> {
+    let (np, nt) = (mesh.coords.len() / 2, mesh.triangles.len() / 3);
+    write_atomic(node, |w| {
         (|| -> std::io::Result<()> {
             writeln!(w, "{np} 2 0 {}", u8::from(mesh.point_markers.is_some()))?;
             for (i, p) in mesh.coords.chunks_exact(2).enumerate() {
@@ -109,9 +119,9 @@ pub fn write_triangle_family(
             }
             Ok(())
         })()
-        .map_err(|e| IoError::io(&node, e))
+        .map_err(|e| IoError::io(node, e))
     })?;
-    write_atomic(&ele, |w| {
+    write_atomic(ele, |w| {
         (|| -> std::io::Result<()> {
             writeln!(w, "{nt} 3 {}", u8::from(mesh.cell_attributes.is_some()))?;
             for (k, t) in mesh.triangles.chunks_exact(3).enumerate() {
@@ -131,9 +141,9 @@ pub fn write_triangle_family(
             }
             Ok(())
         })()
-        .map_err(|e| IoError::io(&ele, e))
+        .map_err(|e| IoError::io(ele, e))
     })?;
-    write_atomic(&edge, |w| {
+    write_atomic(edge, |w| {
         (|| -> std::io::Result<()> {
             writeln!(w, "{} 1", mesh.edges.len())?;
             for (k, (e, m)) in mesh.edges.iter().zip(mesh.edge_markers).enumerate() {
@@ -147,9 +157,8 @@ pub fn write_triangle_family(
             }
             Ok(())
         })()
-        .map_err(|e| IoError::io(&edge, e))
-    })?;
-    Ok(vec![node, ele, edge])
+        .map_err(|e| IoError::io(edge, e))
+    })
 }
 
 /// Reads `X.node` and `X.ele` (given the `.ele` path) as a [`FieldMesh`]. The points'

@@ -16,7 +16,7 @@ use vtkio::model::{
     Piece, UnstructuredGridPiece, Version, VertexNumbers, Vtk,
 };
 
-use crate::atomic::write_atomic;
+use crate::atomic::{transaction, write_atomic};
 use crate::model::check_points;
 use crate::tetmesh::{sibling, TetMeshOut};
 use crate::{IoError, SimplexMesh};
@@ -437,8 +437,7 @@ pub fn write_tet_mesh_vtu_with(
             cell: cell_attrs,
         },
     };
-    export(&volume, piece)?;
-    let piece = UnstructuredGridPiece {
+    let boundary_piece = UnstructuredGridPiece {
         points: IOBuffer::F64(points),
         cells: fixed_cells(mesh.faces.iter().flatten(), 3, CellType::Triangle),
         data: Attributes {
@@ -446,7 +445,11 @@ pub fn write_tet_mesh_vtu_with(
             cell: vec![int_field("marker", mesh.face_markers)],
         },
     };
-    export(&boundary, piece)?;
+    // The two files are replaced together or not at all.
+    transaction(|| {
+        export(&volume, piece)?;
+        export(&boundary, boundary_piece)
+    })?;
     Ok(vec![volume, boundary])
 }
 
