@@ -453,6 +453,34 @@ pub fn write_tet_mesh_vtu_with(
     Ok(vec![volume, boundary])
 }
 
+/// A writer that keeps the first error of the one it wraps.
+struct KeepError<'a> {
+    inner: &'a mut dyn std::io::Write,
+    error: Option<std::io::Error>,
+}
+
+impl KeepError<'_> {
+    fn keep<T>(&mut self, done: std::io::Result<T>) -> std::io::Result<T> {
+        done.map_err(|e| {
+            let copy = std::io::Error::new(e.kind(), e.to_string());
+            self.error.get_or_insert(e);
+            copy
+        })
+    }
+}
+
+impl std::io::Write for KeepError<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let done = self.inner.write(buf);
+        self.keep(done)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        let done = self.inner.flush();
+        self.keep(done)
+    }
+}
+
 /// Cells of `nv` vertices each, all of one type.
 fn fixed_cells<'a>(vertices: impl Iterator<Item = &'a u32>, nv: usize, ty: CellType) -> Cells {
     let connectivity: Vec<u64> = vertices.map(|&v| u64::from(v)).collect();
@@ -547,7 +575,19 @@ fn export(path: &Path, piece: UnstructuredGridPiece) -> Result<(), IoError> {
         },
     };
     if !empty {
-        return write_atomic(path, |w| vtk.write_xml(w).map_err(vtk_error));
+        // vtkio wraps a failed write (a full disk) as an XML "deserialization error": the
+        // writer keeps the first I/O error, which is what is reported.
+        return write_atomic(path, |w| {
+            let mut out = KeepError {
+                inner: w,
+                error: None,
+            };
+            let done = vtk.write_xml(&mut out);
+            match out.error {
+                Some(e) => Err(IoError::io(path, e)),
+                None => done.map_err(vtk_error),
+            }
+        });
     }
     // vtkio leaves `NumberOfCells` out of a piece without cells, which VTK (ParaView) and
     // delmesh's own reader refuse: it is put back (the 3D Voronoi faces of a set with no
@@ -564,4 +604,43 @@ fn export(path: &Path, piece: UnstructuredGridPiece) -> Result<(), IoError> {
         w.write_all(xml.as_bytes())
             .map_err(|e| IoError::io(path, e))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A device that takes `room` bytes, then is full.
+    struct Full {
+        room: usize,
+    }
+
+    impl std::io::Write for Full {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            if self.room == 0 {
+                return Err(std::io::ErrorKind::StorageFull.into());
+            }
+            let n = buf.len().min(self.room);
+            self.room -= n;
+            Ok(n)
+        }
+
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_full_disk_is_kept_as_the_io_error() {
+        let mut device = Full { room: 100 };
+        let mut out = KeepError {
+            inner: &mut device,
+            error: None,
+        };
+        use std::io::Write;
+        assert!(out.write_all(&[b'x'; 150]).is_err());
+        assert!(out.write_all(b"more").is_err());
+        let kept = out.error.expect("the first error");
+        assert_eq!(kept.kind(), std::io::ErrorKind::StorageFull);
+    }
 }
