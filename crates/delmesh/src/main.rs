@@ -238,6 +238,14 @@ struct DemoArgs {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Ctrl-C (or a kill) while outputs are being written would leave their temporary files
+    // beside them, as large as the mesh: they are removed (the outputs themselves are only
+    // ever replaced whole). Without a handler the run still stops, only less tidily.
+    let _ = ctrlc::set_handler(|| {
+        delmesh::io::remove_temporary_files();
+        eprintln!("error: interrupted");
+        std::process::exit(130);
+    });
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

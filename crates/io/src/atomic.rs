@@ -13,28 +13,95 @@
 //! wait for its end, so a full disk half-way through leaves all the old files, not a mix of old
 //! and new ones. (A rename itself failing half-way through the commit, which takes a file system
 //! that stops accepting renames in the same folder, would still leave a mix; it is reported.)
+//!
+//! The temporary files being written are known to [`remove_temporary_files`], which a program's
+//! Ctrl-C handler calls so that an interrupted run leaves nothing behind (the `delmesh` binary
+//! does).
 
 use std::cell::RefCell;
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Mutex, PoisonError};
 
 use crate::IoError;
 
 /// Distinguishes temp files of concurrent writes from the same process.
 static COUNTER: AtomicU64 = AtomicU64::new(0);
 
-/// Removes the temporary file on drop unless the write was committed.
+/// The temporary files of this process that exist now, and whether the process is closing.
+struct Live {
+    paths: Vec<PathBuf>,
+    closing: bool,
+}
+
+/// Every thread's temporary files (a handful at a time).
+static LIVE: Mutex<Live> = Mutex::new(Live {
+    paths: Vec::new(),
+    closing: false,
+});
+
+fn live() -> std::sync::MutexGuard<'static, Live> {
+    LIVE.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Removes every temporary file this process is writing or holding for a [`transaction`],
+/// and makes any later write fail: for a handler of Ctrl-C (or another signal) to call just
+/// before the process exits, so that an interrupted run leaves no temporary file behind. The
+/// destinations are untouched (a rename already done stays done). Returns how many were
+/// removed.
+pub fn remove_temporary_files() -> usize {
+    // The lock is held while the files are removed, and `closing` keeps new ones from being
+    // created after it is released.
+    let mut live = live();
+    live.closing = true;
+    let paths = std::mem::take(&mut live.paths);
+    paths
+        .iter()
+        .filter(|p| std::fs::remove_file(p).is_ok())
+        .count()
+}
+
+/// A temporary file, removed on drop unless the write was committed.
 struct TempGuard {
     path: PathBuf,
     armed: bool,
+}
+
+impl TempGuard {
+    /// Creates the file at `path` (which must not exist) and registers it.
+    fn create(path: PathBuf) -> std::io::Result<(TempGuard, File)> {
+        // Created under the lock, so that the file exists only if it is registered.
+        let mut live = live();
+        if live.closing {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::Interrupted,
+                "the program is being interrupted",
+            ));
+        }
+        let file = OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&path)?;
+        live.paths.push(path.clone());
+        Ok((TempGuard { path, armed: true }, file))
+    }
+
+    /// Forgets the file: it has been renamed, or removed.
+    fn unregister(&self) {
+        let mut live = live();
+        if let Some(k) = live.paths.iter().position(|p| *p == self.path) {
+            live.paths.swap_remove(k);
+        }
+    }
 }
 
 impl Drop for TempGuard {
     fn drop(&mut self) {
         if self.armed {
             let _ = std::fs::remove_file(&self.path);
+            self.unregister();
         }
     }
 }
@@ -67,6 +134,7 @@ impl Staged {
             Change::Write { mut temp, dest } => {
                 std::fs::rename(&temp.path, &dest).map_err(|e| IoError::io(&dest, e))?;
                 temp.armed = false;
+                temp.unregister();
             }
             Change::Remove(path) => match std::fs::remove_file(&path) {
                 Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
@@ -120,15 +188,7 @@ where
     ));
     let tmp_path = dir.join(tmp_name);
 
-    let file = OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&tmp_path)
-        .map_err(io_err)?;
-    let guard = TempGuard {
-        path: tmp_path,
-        armed: true,
-    };
+    let (guard, file) = TempGuard::create(tmp_path).map_err(io_err)?;
 
     let mut out = BufWriter::new(file);
     write(&mut out)?;

@@ -81,7 +81,7 @@ mod vtu;
 mod vtu_read;
 mod xyz;
 
-pub use atomic::{transaction, write_atomic};
+pub use atomic::{remove_temporary_files, transaction, write_atomic};
 pub use error::IoError;
 pub use foam::{is_polymesh, write_foam, write_foam_2d, POLYMESH_FILES};
 pub use medit::{parse_medit, read_medit, write_medit};
