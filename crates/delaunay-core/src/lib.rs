@@ -42,7 +42,7 @@ pub use improve3::Improvement3;
 pub use renumber::Renumbering;
 pub use star::StarSearch;
 pub use triangulation::{Insertion, Location, Triangulation};
-pub use voronoi::{VoronoiCell2, VoronoiDiagram, VoronoiFace3};
+pub use voronoi::{VoronoiCell2, VoronoiDiagram, VoronoiFace3, VoronoiFaces3};
 
 /// An order in which to insert a batch of `points` (indices into it) into an existing
 /// triangulation: biased randomised rounds (the first of about 64 points, whatever the batch's

@@ -9,6 +9,7 @@
 use crate::dim::{Dim, D2, D3};
 use crate::ids::{CellId, VertexId};
 use crate::triangulation::Triangulation;
+use rayon::prelude::*;
 use std::fmt::Write as _;
 
 /// The Voronoi vertices of a triangulation with their forming points and neighbours.
@@ -136,6 +137,40 @@ pub struct VoronoiCell2 {
     pub point: usize,
     /// The region's corners, counter-clockwise (empty if it misses the box).
     pub polygon: Vec<[f64; 2]>,
+}
+
+/// The bounded 3D Voronoi regions as polygons on shared vertices (see
+/// [`Triangulation::voronoi_faces_shared`]): flat arrays, no allocation per face.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct VoronoiFaces3 {
+    /// The Voronoi vertices: the circumcentres of the tetrahedra that bound a face, each once.
+    pub vertices: Vec<[f64; 3]>,
+    /// Per face, the input indices of the point whose region it bounds and of the point on
+    /// the other side.
+    pub sides: Vec<[usize; 2]>,
+    /// Where each face's corners end in `corners` (face `k` is `corners[ends[k - 1]..ends[k]]`,
+    /// VTK's polygon offsets).
+    pub ends: Vec<usize>,
+    /// The faces' corners (indices into `vertices`), each face in cyclic order.
+    pub corners: Vec<u32>,
+}
+
+impl VoronoiFaces3 {
+    /// Number of faces.
+    pub fn len(&self) -> usize {
+        self.sides.len()
+    }
+
+    /// Whether there is no face (no point strictly inside the hull).
+    pub fn is_empty(&self) -> bool {
+        self.sides.is_empty()
+    }
+
+    /// The corners of face `k`.
+    pub fn face(&self, k: usize) -> &[u32] {
+        let start = if k == 0 { 0 } else { self.ends[k - 1] };
+        &self.corners[start..self.ends[k]]
+    }
 }
 
 /// One face of a bounded 3D Voronoi region: the face between `point` and `neighbor`.
@@ -297,41 +332,97 @@ fn clip_to_box(mut poly: Vec<[f64; 2]>, lo: [f64; 2], hi: [f64; 2]) -> Vec<[f64;
 
 impl Triangulation<D3> {
     /// The faces of every bounded Voronoi region (points strictly inside the convex hull):
-    /// one face per Delaunay edge at the point, a ring of circumcentres.
+    /// one face per Delaunay edge at the point, a ring of circumcentres. (Each face carries its
+    /// own copy of its corners: [`Triangulation::voronoi_faces_shared`] is the compact form.)
     pub fn voronoi_faces(&self) -> Vec<VoronoiFace3> {
-        let mut faces = Vec::new();
-        for v in 0..self.num_vertices() {
-            let v = VertexId(v as u32);
-            let star = self.cells_around_vertex(v);
-            if star.iter().any(|&c| self.is_ghost(c)) {
-                continue;
-            }
-            let mut others: Vec<VertexId> = star
-                .iter()
-                .flat_map(|&c| self.cell(c).iter().copied())
-                .filter(|&u| u != v)
-                .collect();
-            others.sort_unstable();
-            others.dedup();
-            for w in others {
-                let ring = self.ring_around_edge(v, w, &star);
-                faces.push(VoronoiFace3 {
-                    point: self.input_index(v),
-                    neighbor: self.input_index(w),
-                    polygon: ring.iter().map(|&c| circumcenter(self, c)).collect(),
-                });
-            }
-        }
-        faces
+        let shared = self.voronoi_faces_shared();
+        (0..shared.len())
+            .map(|k| VoronoiFace3 {
+                point: shared.sides[k][0],
+                neighbor: shared.sides[k][1],
+                polygon: shared
+                    .face(k)
+                    .iter()
+                    .map(|&i| shared.vertices[i as usize])
+                    .collect(),
+            })
+            .collect()
     }
 
-    /// The cells around edge `v w` in cyclic order (all finite: `v` is interior).
-    fn ring_around_edge(&self, v: VertexId, w: VertexId, star: &[CellId]) -> Vec<CellId> {
+    /// [`Triangulation::voronoi_faces`] on shared vertices: each circumcentre is computed and
+    /// stored once, and the faces index them. The points' regions are gathered in parallel,
+    /// in point order (the same result whatever the number of threads).
+    pub fn voronoi_faces_shared(&self) -> VoronoiFaces3 {
+        /// A run of points' faces: sides, ring lengths, rings (cell slots).
+        type Part = (Vec<[usize; 2]>, Vec<u32>, Vec<u32>);
+        const CHUNK: usize = 1024;
+        let n = self.num_vertices();
+        let parts: Vec<Part> = (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|k| {
+                let (mut sides, mut lengths, mut rings) = (Vec::new(), Vec::new(), Vec::new());
+                for v in (k * CHUNK..((k + 1) * CHUNK).min(n)).map(|v| VertexId(v as u32)) {
+                    let star = self.cells_around_vertex(v);
+                    if star.iter().any(|&c| self.is_ghost(c)) {
+                        continue;
+                    }
+                    let mut others: Vec<VertexId> = star
+                        .iter()
+                        .flat_map(|&c| self.cell(c).iter().copied())
+                        .filter(|&u| u != v)
+                        .collect();
+                    others.sort_unstable();
+                    others.dedup();
+                    for w in others {
+                        let before = rings.len();
+                        self.ring_around_edge(v, w, &star, &mut rings);
+                        sides.push([self.input_index(v), self.input_index(w)]);
+                        lengths.push((rings.len() - before) as u32);
+                    }
+                }
+                (sides, lengths, rings)
+            })
+            .collect();
+        // The cells that bound a face, numbered in slot order, and their circumcentres.
+        let mut number = vec![u32::MAX; self.num_cell_slots()];
+        for (_, _, rings) in &parts {
+            for &c in rings {
+                number[c as usize] = 0;
+            }
+        }
+        let mut used = Vec::new();
+        for (c, slot) in number.iter_mut().enumerate() {
+            if *slot == 0 {
+                *slot = used.len() as u32;
+                used.push(CellId(c as u32));
+            }
+        }
+        let vertices = used.par_iter().map(|&c| circumcenter(self, c)).collect();
+        let mut out = VoronoiFaces3 {
+            vertices,
+            ..VoronoiFaces3::default()
+        };
+        for (sides, lengths, rings) in parts {
+            out.sides.extend(sides);
+            let mut end = out.corners.len();
+            out.ends.extend(lengths.iter().map(|&m| {
+                end += m as usize;
+                end
+            }));
+            out.corners
+                .extend(rings.iter().map(|&c| number[c as usize]));
+        }
+        out
+    }
+
+    /// Appends the cells around edge `v w` in cyclic order (all finite: `v` is interior) to
+    /// `ring`, as slot numbers.
+    fn ring_around_edge(&self, v: VertexId, w: VertexId, star: &[CellId], ring: &mut Vec<u32>) {
         let start = *star
             .iter()
             .find(|&&c| self.cell(c).contains(&w))
             .expect("w is a neighbour of v");
-        let mut ring = vec![start];
+        ring.push(start.0);
         let mut prev = start;
         let mut c = start;
         loop {
@@ -344,10 +435,9 @@ impl Triangulation<D3> {
             if next == start {
                 break;
             }
-            ring.push(next);
+            ring.push(next.0);
             prev = c;
             c = next;
         }
-        ring
     }
 }

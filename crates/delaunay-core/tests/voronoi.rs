@@ -103,6 +103,44 @@ fn bounded_3d_regions_have_equidistant_faces() {
 }
 
 #[test]
+fn shared_3d_faces_store_each_circumcentre_once() {
+    let pts = uniform3(3000, 5);
+    let t = Triangulation3::new(&pts).unwrap();
+    let shared = t.voronoi_faces_shared();
+    assert!(!shared.is_empty());
+    // One vertex per tetrahedron at most, and each used: the faces index them all.
+    assert!(shared.vertices.len() <= t.num_cells());
+    let mut used = vec![false; shared.vertices.len()];
+    for k in 0..shared.len() {
+        assert!(shared.face(k).len() >= 3);
+        for &i in shared.face(k) {
+            used[i as usize] = true;
+        }
+    }
+    assert!(used.iter().all(|&u| u));
+    assert_eq!(shared.ends.last(), Some(&shared.corners.len()));
+    // The per-face form is the same diagram.
+    let faces = t.voronoi_faces();
+    assert_eq!(faces.len(), shared.len());
+    for (k, f) in faces.iter().enumerate() {
+        assert_eq!([f.point, f.neighbor], shared.sides[k]);
+        let corners: Vec<[f64; 3]> = shared
+            .face(k)
+            .iter()
+            .map(|&i| shared.vertices[i as usize])
+            .collect();
+        assert_eq!(f.polygon, corners);
+    }
+    // The same whatever the number of threads.
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| t.voronoi_faces_shared());
+    assert_eq!(one, shared);
+}
+
+#[test]
 fn nearly_collinear_and_coplanar_points_have_finite_circumcentres() {
     // (0.1 i, 0.3 i) rounded: collinear in exact arithmetic only by rounding, so every
     // triangle is a sliver whose floating-point determinant can come out 0 (a NaN centre).

@@ -349,8 +349,8 @@ impl DelaunayRun {
     ///   the point on the other side, both in the input file's numbering. An interior face is
     ///   thus written twice, once per side.
     ///
-    /// Polygon corners (circumcentres, or clipping points) are the file's points; polygons do
-    /// not share them.
+    /// Polygon corners (circumcentres, or clipping points) are the file's points: in 3D each
+    /// circumcentre once, shared by its faces; in 2D each region has its own (clipped) corners.
     ///
     /// # Errors
     /// [`Error::UnsupportedFormat`] unless `out` ends in `.vtu`, or [`Error::Io`].
@@ -358,18 +358,9 @@ impl DelaunayRun {
         OutputFormat::check_voronoi_path(out)?;
         check_not_input(&self.input, &[out.to_path_buf()])?;
         let shift = f64::from(self.first_index);
-        let mut coords = Vec::new();
-        let mut polygons: Vec<Vec<u32>> = Vec::new();
+        let (mut coords, mut ends, mut corners) = (Vec::new(), Vec::new(), Vec::new());
         let mut point_ids = Vec::new();
         let mut neighbor_ids = Vec::new();
-        let mut add_polygon = |corners: &mut dyn Iterator<Item = &[f64]>| {
-            let mut poly = Vec::new();
-            for c in corners {
-                poly.push(u32::try_from(coords.len() / c.len()).unwrap_or(u32::MAX));
-                coords.extend_from_slice(c);
-            }
-            polygons.push(poly);
-        };
         match &self.mesh {
             DelaunayMesh::D2(t) => {
                 let (lo, hi) = voronoi_box(t);
@@ -377,27 +368,30 @@ impl DelaunayRun {
                     if cell.polygon.len() < 3 {
                         continue;
                     }
-                    add_polygon(&mut cell.polygon.iter().map(|p| p.as_slice()));
+                    for p in &cell.polygon {
+                        corners.push(u32::try_from(coords.len() / 2).unwrap_or(u32::MAX));
+                        coords.extend_from_slice(p);
+                    }
+                    ends.push(corners.len());
                     point_ids.push(cell.point as f64 + shift);
                 }
             }
             DelaunayMesh::D3(t) => {
-                for face in t.voronoi_faces() {
-                    if face.polygon.len() < 3 {
-                        continue;
-                    }
-                    add_polygon(&mut face.polygon.iter().map(|p| p.as_slice()));
-                    point_ids.push(face.point as f64 + shift);
-                    neighbor_ids.push(face.neighbor as f64 + shift);
-                }
+                // Polygons of at least 3 corners: every ring around an interior edge has 3
+                // tetrahedra or more.
+                let faces = t.voronoi_faces_shared();
+                coords = faces.vertices.iter().flatten().copied().collect();
+                point_ids = faces.sides.iter().map(|s| s[0] as f64 + shift).collect();
+                neighbor_ids = faces.sides.iter().map(|s| s[1] as f64 + shift).collect();
+                (ends, corners) = (faces.ends, faces.corners);
             }
         }
         let mut cell_data: Vec<(&str, &[f64])> = vec![("point", &point_ids)];
         if self.dim() == 3 {
             cell_data.push(("neighbor", &neighbor_ids));
         }
-        delmesh_io::write_vtu_polygons(out, self.dim(), &coords, &polygons, &cell_data)?;
-        Ok(polygons.len())
+        delmesh_io::write_vtu_polygons(out, self.dim(), &coords, &ends, &corners, &cell_data)?;
+        Ok(ends.len())
     }
 
     /// The kernel's exact validation: neighbour symmetry, orientation, the empty-circumsphere

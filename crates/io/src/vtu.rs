@@ -339,43 +339,55 @@ pub fn write_vtu(
 /// Writes polygons as a VTK XML UnstructuredGrid (`.vtu`) of `VTK_POLYGON` cells: 2D Voronoi
 /// cells, or the faces of 3D Voronoi cells. Atomic.
 ///
-/// `coords` holds `dim` (2 or 3) coordinates per point; each polygon lists at least 3 0-based
-/// point indices in order around it. `cell_data` holds named scalar fields with one value per
-/// polygon (for 3D Voronoi faces, e.g. the id of the cell each face belongs to).
+/// `coords` holds `dim` (2 or 3) coordinates per point. The polygons are flat, as VTK stores
+/// them: polygon `k` is `corners[ends[k - 1]..ends[k]]` (from 0 for the first), at least 3
+/// 0-based point indices in order around it; polygons may share points. `cell_data` holds
+/// named scalar fields with one value per polygon (for 3D Voronoi faces, e.g. the id of the
+/// cell each face belongs to).
 pub fn write_vtu_polygons(
     path: &Path,
     dim: usize,
     coords: &[f64],
-    polygons: &[Vec<u32>],
+    ends: &[usize],
+    corners: &[u32],
     cell_data: &[(&str, &[f64])],
 ) -> Result<(), IoError> {
     check_points(path, dim, coords)?;
     let n_points = coords.len() / dim;
-    for (i, poly) in polygons.iter().enumerate() {
-        if poly.len() < 3 {
+    let mut start = 0;
+    for (i, &end) in ends.iter().enumerate() {
+        if end > corners.len() || end < start + 3 {
             return Err(IoError::invalid(
                 path,
                 format!(
                     "polygon {i} has {} vertices, at least 3 are needed",
-                    poly.len()
+                    end.min(corners.len()).saturating_sub(start)
                 ),
             ));
         }
-        if let Some(&v) = poly.iter().find(|&&v| v as usize >= n_points) {
+        if let Some(&v) = corners[start..end]
+            .iter()
+            .find(|&&v| v as usize >= n_points)
+        {
             return Err(IoError::invalid(
                 path,
                 format!("polygon {i} refers to point {v} but there are only {n_points} points"),
             ));
         }
+        start = end;
     }
-    let cell_attrs = fields(path, "cell", cell_data, polygons.len())?;
-
-    let mut connectivity = Vec::with_capacity(polygons.iter().map(Vec::len).sum());
-    let mut offsets = Vec::with_capacity(polygons.len());
-    for poly in polygons {
-        connectivity.extend(poly.iter().map(|&v| u64::from(v)));
-        offsets.push(connectivity.len() as u64);
+    if start != corners.len() {
+        return Err(IoError::invalid(
+            path,
+            format!(
+                "{} corners follow the last polygon's end",
+                corners.len() - start
+            ),
+        ));
     }
+    let cell_attrs = fields(path, "cell", cell_data, ends.len())?;
+    let connectivity = corners.iter().map(|&v| u64::from(v)).collect();
+    let offsets = ends.iter().map(|&e| e as u64).collect();
     let piece = UnstructuredGridPiece {
         points: IOBuffer::F64(points3(dim, coords)),
         cells: Cells {
@@ -383,7 +395,7 @@ pub fn write_vtu_polygons(
                 connectivity,
                 offsets,
             },
-            types: vec![CellType::Polygon; polygons.len()],
+            types: vec![CellType::Polygon; ends.len()],
         },
         data: Attributes {
             point: Vec::new(),
@@ -453,13 +465,53 @@ pub fn write_tet_mesh_vtu_with(
     Ok(vec![volume, boundary])
 }
 
-/// A writer that keeps the first error of the one it wraps.
-struct KeepError<'a> {
+/// The declarations of the cells' index arrays as vtkio writes them, and as VTK does.
+const SIGNED_INDICES: [(&str, &str); 2] = [
+    (
+        r#"type="UInt64" Name="connectivity""#,
+        r#"type="Int64" Name="connectivity""#,
+    ),
+    (
+        r#"type="UInt64" Name="offsets""#,
+        r#"type="Int64" Name="offsets""#,
+    ),
+];
+
+/// What vtkio writes, fixed on the way to the file:
+/// - the cells' `connectivity` and `offsets` are declared `Int64`, VTK's own index type, not
+///   vtkio's `UInt64`: ParaView reads both, but meshio (NumPy, which mixes unsigned and signed
+///   integers as floats) turned the cells of a `UInt64` file into floats and failed on
+///   polygons. The values, all below 2^63, are the same bytes either way;
+/// - the first I/O error is kept: vtkio reports a failed write (a full disk) as an XML
+///   "deserialization error".
+///
+/// Until both declarations have gone by, the last bytes written are held back in case one
+/// is split between two writes; after them everything passes straight through.
+struct Fixups<'a> {
     inner: &'a mut dyn std::io::Write,
+    held: Vec<u8>,
+    /// Which declarations have gone by.
+    fixed: [bool; 2],
     error: Option<std::io::Error>,
 }
 
-impl KeepError<'_> {
+impl<'a> Fixups<'a> {
+    fn new(inner: &'a mut dyn std::io::Write) -> Self {
+        Fixups {
+            inner,
+            held: Vec::new(),
+            fixed: [false; 2],
+            error: None,
+        }
+    }
+
+    /// Writes what is still held (at the end).
+    fn finish(&mut self) -> std::io::Result<()> {
+        let held = std::mem::take(&mut self.held);
+        let done = self.inner.write_all(&held);
+        self.keep(done)
+    }
+
     fn keep<T>(&mut self, done: std::io::Result<T>) -> std::io::Result<T> {
         done.map_err(|e| {
             let copy = std::io::Error::new(e.kind(), e.to_string());
@@ -467,15 +519,50 @@ impl KeepError<'_> {
             copy
         })
     }
+
+    fn pass(&mut self, buf: &[u8]) -> std::io::Result<()> {
+        if self.fixed == [true; 2] {
+            self.finish()?;
+            let done = self.inner.write_all(buf);
+            return self.keep(done);
+        }
+        self.held.extend_from_slice(buf);
+        for (k, (unsigned, signed)) in SIGNED_INDICES.iter().enumerate() {
+            let (unsigned, signed) = (unsigned.as_bytes(), signed.as_bytes());
+            if self.fixed[k] {
+                continue;
+            }
+            if let Some(at) = self
+                .held
+                .windows(unsigned.len())
+                .position(|w| w == unsigned)
+            {
+                self.held
+                    .splice(at..at + unsigned.len(), signed.iter().copied());
+                self.fixed[k] = true;
+            }
+        }
+        // A declaration split between this write and the next starts in the last bytes.
+        let keep = if self.fixed == [true; 2] {
+            0
+        } else {
+            SIGNED_INDICES[0].0.len()
+        };
+        let out = self.held.len().saturating_sub(keep);
+        let done = self.inner.write_all(&self.held[..out]);
+        self.keep(done)?;
+        self.held.drain(..out);
+        Ok(())
+    }
 }
 
-impl std::io::Write for KeepError<'_> {
+impl std::io::Write for Fixups<'_> {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        let done = self.inner.write(buf);
-        self.keep(done)
+        self.pass(buf).map(|()| buf.len())
     }
 
     fn flush(&mut self) -> std::io::Result<()> {
+        // (What is held waits for `finish`: flushing it could split a declaration.)
         let done = self.inner.flush();
         self.keep(done)
     }
@@ -575,17 +662,12 @@ fn export(path: &Path, piece: UnstructuredGridPiece) -> Result<(), IoError> {
         },
     };
     if !empty {
-        // vtkio wraps a failed write (a full disk) as an XML "deserialization error": the
-        // writer keeps the first I/O error, which is what is reported.
         return write_atomic(path, |w| {
-            let mut out = KeepError {
-                inner: w,
-                error: None,
-            };
-            let done = vtk.write_xml(&mut out);
+            let mut out = Fixups::new(w);
+            let done = vtk.write_xml(&mut out).map(|()| out.finish());
             match out.error {
                 Some(e) => Err(IoError::io(path, e)),
-                None => done.map_err(vtk_error),
+                None => done.map_err(vtk_error)?.map_err(|e| IoError::io(path, e)),
             }
         });
     }
@@ -594,12 +676,13 @@ fn export(path: &Path, piece: UnstructuredGridPiece) -> Result<(), IoError> {
     // bounded region).
     let mut xml = Vec::new();
     vtk.write_xml(&mut xml).map_err(vtk_error)?;
-    let xml = String::from_utf8_lossy(&xml);
-    let xml = if xml.contains("NumberOfCells=") {
-        xml.into_owned()
-    } else {
-        xml.replacen("<Piece ", "<Piece NumberOfCells=\"0\" ", 1)
-    };
+    let mut xml = String::from_utf8_lossy(&xml).into_owned();
+    for (unsigned, signed) in SIGNED_INDICES {
+        xml = xml.replacen(unsigned, signed, 1);
+    }
+    if !xml.contains("NumberOfCells=") {
+        xml = xml.replacen("<Piece ", "<Piece NumberOfCells=\"0\" ", 1);
+    }
     write_atomic(path, |w| {
         w.write_all(xml.as_bytes())
             .map_err(|e| IoError::io(path, e))
@@ -633,14 +716,42 @@ mod tests {
     #[test]
     fn a_full_disk_is_kept_as_the_io_error() {
         let mut device = Full { room: 100 };
-        let mut out = KeepError {
-            inner: &mut device,
-            error: None,
-        };
+        let mut out = Fixups::new(&mut device);
         use std::io::Write;
         assert!(out.write_all(&[b'x'; 150]).is_err());
         assert!(out.write_all(b"more").is_err());
         let kept = out.error.expect("the first error");
         assert_eq!(kept.kind(), std::io::ErrorKind::StorageFull);
+    }
+
+    #[test]
+    fn index_arrays_are_declared_signed_however_the_writes_are_cut() {
+        let xml = concat!(
+            r#"<Points><DataArray type="UInt64" Name="ids">AAAA</DataArray></Points>"#,
+            r#"<Cells><DataArray type="UInt64" Name="connectivity" format="binary">QUInt64"#,
+            r#"type="UInt64" Name="connectivity""#,
+            r#"</DataArray><DataArray type="UInt64" Name="offsets" format="binary">"#,
+            r#"type="UInt64" Name="connectivity"</DataArray></Cells>"#
+        );
+        let expected = xml
+            .replacen(
+                r#"type="UInt64" Name="connectivity""#,
+                r#"type="Int64" Name="connectivity""#,
+                1,
+            )
+            .replacen(
+                r#"type="UInt64" Name="offsets""#,
+                r#"type="Int64" Name="offsets""#,
+                1,
+            );
+        for cut in [1, 2, 3, 7, 13, 50, 1000] {
+            let mut file = Vec::new();
+            let mut out = Fixups::new(&mut file);
+            for piece in xml.as_bytes().chunks(cut) {
+                std::io::Write::write_all(&mut out, piece).unwrap();
+            }
+            out.finish().unwrap();
+            assert_eq!(String::from_utf8(file).unwrap(), expected, "cut {cut}");
+        }
     }
 }

@@ -122,6 +122,19 @@ fn tetra_round_trip() {
     assert_eq!(f64s(&piece.points), coords);
 }
 
+/// Polygons as the flat `ends` and `corners` of `write_vtu_polygons`.
+fn flat(polygons: &[Vec<u32>]) -> (Vec<usize>, Vec<u32>) {
+    let corners: Vec<u32> = polygons.concat();
+    let ends = polygons
+        .iter()
+        .scan(0, |end, p| {
+            *end += p.len();
+            Some(*end)
+        })
+        .collect();
+    (ends, corners)
+}
+
 #[test]
 fn polygons_round_trip() {
     let dir = tempfile::tempdir().unwrap();
@@ -132,7 +145,8 @@ fn polygons_round_trip() {
     ];
     let polygons = vec![vec![0, 1, 2, 3], vec![1, 4, 5, 6, 2]];
     let site = [10.0, 11.0];
-    write_vtu_polygons(&path, 2, &coords, &polygons, &[("site", &site)]).unwrap();
+    let (ends, corners) = flat(&polygons);
+    write_vtu_polygons(&path, 2, &coords, &ends, &corners, &[("site", &site)]).unwrap();
     let piece = read_piece(&path);
     assert_eq!(piece.num_points(), 7);
     assert_eq!(piece.cells.num_cells(), 2);
@@ -146,7 +160,8 @@ fn polygons_round_trip() {
     let path3 = dir.path().join("faces.vtu");
     let coords3 = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
     let faces = vec![vec![0, 2, 1], vec![0, 1, 3], vec![1, 2, 3], vec![0, 3, 2]];
-    write_vtu_polygons(&path3, 3, &coords3, &faces, &[]).unwrap();
+    let (ends, corners) = flat(&faces);
+    write_vtu_polygons(&path3, 3, &coords3, &ends, &corners, &[]).unwrap();
     let piece = read_piece(&path3);
     assert_eq!(piece.num_points(), 4);
     assert_eq!(piece.cells.num_cells(), 4);
@@ -169,7 +184,7 @@ fn empty_mesh_is_written() {
     // The piece says it has no cells (vtkio left `NumberOfCells` out, which VTK and
     // delmesh's own reader refuse): the 3D Voronoi faces of 4 points, none bounded.
     let faces = dir.path().join("no-faces.vtu");
-    write_vtu_polygons(&faces, 3, &[], &[], &[("point", &[])]).unwrap();
+    write_vtu_polygons(&faces, 3, &[], &[], &[], &[("point", &[])]).unwrap();
     let text = std::fs::read_to_string(&faces).unwrap();
     assert!(text.contains("<Piece NumberOfCells=\"0\""), "{text}");
     for p in [&path, &faces] {
@@ -209,15 +224,23 @@ fn invalid_input_leaves_the_target_alone() {
     };
     check(write_vtu(&path, &mesh, &[], &[]), "refers to point 9");
     check(
-        write_vtu_polygons(&path, 2, &SQUARE, &[vec![0, 1]], &[]),
+        write_vtu_polygons(&path, 2, &SQUARE, &[2], &[0, 1], &[]),
         "polygon 0 has 2 vertices",
     );
     check(
-        write_vtu_polygons(&path, 2, &SQUARE, &[vec![0, 1, 2], vec![0, 1, 4]], &[]),
+        write_vtu_polygons(&path, 2, &SQUARE, &[3, 6], &[0, 1, 2, 0, 1, 4], &[]),
         "polygon 1 refers to point 4",
     );
     check(
-        write_vtu_polygons(&path, 1, &SQUARE, &[], &[]),
+        write_vtu_polygons(&path, 2, &SQUARE, &[3, 9], &[0, 1, 2, 0, 1, 3], &[]),
+        "polygon 1 has 3 vertices",
+    );
+    check(
+        write_vtu_polygons(&path, 2, &SQUARE, &[3], &[0, 1, 2, 3], &[]),
+        "1 corners follow the last polygon's end",
+    );
+    check(
+        write_vtu_polygons(&path, 1, &SQUARE, &[], &[], &[]),
         "dimension must be 2 or 3",
     );
     assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
