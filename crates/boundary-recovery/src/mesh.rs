@@ -23,7 +23,9 @@ pub struct MeshArrays {
     /// Whether each vertex is on the boundary (an end of a boundary edge): smoothing keeps these
     /// fixed.
     pub on_boundary: Vec<bool>,
-    /// Boundary edges.
+    /// Boundary edges: each an edge of an element. One with an element on one side only (on
+    /// the boundary of the domain) has it on its left, so its outward normal is (dy, −dx); one
+    /// inside the domain (a wake, a wall between regions) has its input segment's direction.
     pub edges: Vec<[u32; 2]>,
     /// Marker of each boundary edge.
     pub edge_markers: Vec<i32>,
@@ -62,6 +64,28 @@ impl Mesh2 {
     pub fn is_element(&self, c: CellId) -> bool {
         let tri = self.cdt.triangulation();
         tri.is_live(c) && !tri.is_ghost(c) && self.cdt.tag(c) != OUTSIDE
+    }
+
+    /// The boundary edge `a b` as written (see [`Mesh2::to_arrays`]): `None` if no element is
+    /// on either side, else with the element on its left if only one side has one, else as
+    /// given.
+    fn oriented(&self, a: VertexId, b: VertexId) -> Option<[VertexId; 2]> {
+        let (c, facet) = self.cdt.find_edge(a, b)?;
+        let tri = self.cdt.triangulation();
+        let across = tri.neighbor_facet(c, facet).cell();
+        // Whether c has a then b counter-clockwise: then c is on the left of a → b.
+        let v = tri.cell(c);
+        let k = v.iter().position(|&u| u == a)?;
+        let (left, right) = if v[(k + 1) % 3] == b {
+            (c, across)
+        } else {
+            (across, c)
+        };
+        match (self.is_element(left), self.is_element(right)) {
+            (false, false) => None,
+            (false, true) => Some([b, a]),
+            _ => Some([a, b]),
+        }
     }
 
     /// Renumbers the triangulation's vertices and cells along a space-filling curve, for the
@@ -198,10 +222,14 @@ impl Mesh2 {
             })
             .collect();
         for e in &self.edges {
-            let (a, b) = (number[e.a.index()], number[e.b.index()]);
-            if a == u32::MAX || b == u32::MAX {
-                continue; // an edge between two exterior regions
-            }
+            // An edge with no element on either side (between a hole and the outside, or two
+            // holes) bounds nothing; one with an element on one side only is written with the
+            // domain on its left (outward normal (dy, −dx), as 3D faces point outward); one
+            // inside the domain (a wake, a wall between regions) keeps its input direction.
+            let Some([a, b]) = self.oriented(e.a, e.b) else {
+                continue;
+            };
+            let (a, b) = (number[a.index()], number[b.index()]);
             out.edges.push([a, b]);
             out.edge_markers.push(e.marker);
             for k in [a, b] {

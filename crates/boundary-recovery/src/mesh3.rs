@@ -533,6 +533,8 @@ impl Mesh3 {
                 })
             })
             .collect();
+        let is_element =
+            |c: CellId| tri.is_live(c) && !tri.is_ghost(c) && self.ct.tag(c) != OUTSIDE;
         for f in &self.faces {
             let mut t = f.v.map(|v| number[v.index()]);
             if t.contains(&u32::MAX) {
@@ -545,6 +547,10 @@ impl Mesh3 {
                 if orient3d(p[0], p[1], p[2], out.coords[o as usize]) == Sign::Positive {
                     t.swap(1, 2);
                 }
+            } else if !tri.cells_around(&f.v).into_iter().any(is_element) {
+                // Its corners are used, but it has no element on either side (between a
+                // hole and the outside): it bounds nothing.
+                continue;
             }
             out.faces.push(t);
             out.face_markers.push(f.marker);

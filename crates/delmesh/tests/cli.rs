@@ -737,6 +737,42 @@ fn mesh_a_poly_file_to_every_format() {
         ],
     );
     ok(&out);
+    // The paper's points from component meshes, without automatic points: those points have
+    // a spacing in the .vtu too (it was NaN there, and the file was refused as a background).
+    std::fs::write(
+        dir.path().join("pts.txt"),
+        "0.5 0.5\n3.5 0.5\n3.5 3.5\n0.5 2\n2 3.5\n",
+    )
+    .unwrap();
+    let out = delmesh(
+        dir.path(),
+        &[
+            "mesh",
+            "sq.poly",
+            "--no-points",
+            "--points",
+            "pts.txt",
+            "-o",
+            "pn.vtu",
+        ],
+    );
+    ok(&out);
+    let spacing = delmesh_io::read_vtu(&dir.path().join("pn.vtu")).unwrap();
+    let (_, values) = spacing
+        .point_fields
+        .iter()
+        .find(|(name, _)| name == "spacing")
+        .expect("a spacing field");
+    assert_eq!(values.len(), 13);
+    assert!(
+        values.iter().all(|h| *h > 0.0 && h.is_finite()),
+        "{values:?}"
+    );
+    let out = delmesh(
+        dir.path(),
+        &["mesh", "sq.poly", "-o", "pb.vtu", "--background", "pn.vtu"],
+    );
+    ok(&out);
     // A field, or adaptation's bounds, without the mesh they belong to is refused (--field
     // alone was ignored: the boundary's spacing was used without a word).
     for extra in [

@@ -55,10 +55,26 @@ fn check_run_of_area(run: &MeshRun2, plc: &Plc2, name: &str, exact: f64) {
             edges.insert((u.min(v), u.max(v)), ());
         }
     }
+    // Directed edges of the triangles (counter-clockwise): a boundary edge with a triangle on
+    // one side only has it on its left (the domain on the left, the outward normal (dy, −dx)).
+    let mut directed: HashMap<(u32, u32), ()> = HashMap::new();
+    for t in &a.triangles {
+        for k in 0..3 {
+            directed.insert((t[k], t[(k + 1) % 3]), ());
+        }
+    }
     for e in &a.edges {
         assert!(
             edges.contains_key(&(e[0].min(e[1]), e[0].max(e[1]))),
-            "{name}: boundary edge missing"
+            "{name}: boundary edge {e:?} is not an edge of a triangle"
+        );
+        let (left, right) = (
+            directed.contains_key(&(e[0], e[1])),
+            directed.contains_key(&(e[1], e[0])),
+        );
+        assert!(
+            left || !right,
+            "{name}: boundary edge {e:?} has the domain on its right"
         );
     }
     let mut length_of: HashMap<u32, f64> = HashMap::new();
@@ -132,6 +148,47 @@ fn polygon(plc: &mut Plc2, points: &[[f64; 2]]) {
         let b = ids[(k + 1) % ids.len()];
         plc.segments
             .push(delmesh::recovery::Segment { a, b, marker: 1 });
+    }
+}
+
+#[test]
+fn boundary_edges_bound_elements_with_the_domain_on_their_left() {
+    // A square with a notch cut out by a hole seed: the square's edge under the notch lies
+    // between the hole and the outside, and bounds nothing (it was written, with its marker,
+    // as a boundary edge of no triangle). A second hole given counter-clockwise: its edges
+    // are written clockwise, with the domain on their left (they kept the input direction).
+    let mut plc = Plc2::default();
+    polygon(
+        &mut plc,
+        &[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]],
+    );
+    plc.points.push([1.5, 0.5]);
+    for (a, b) in [(2, 5), (5, 1)] {
+        plc.segments
+            .push(delmesh::recovery::Segment { a, b, marker: 2 });
+    }
+    polygon(&mut plc, &[[0.5, 1.0], [1.5, 1.0], [1.0, 1.5]]);
+    plc.holes = vec![[1.5, 0.2], [1.0, 1.2]];
+    for smoothing in [None, Some(Smoother::new())] {
+        let options = MeshOptions2 {
+            smoothing,
+            ..MeshOptions2::default()
+        };
+        let run = mesh_plc(&plc, &options).unwrap();
+        // The domain: 4 less the two triangles of area 1/4.
+        check_run_of_area(&run, &plc, "notch", 3.5);
+        // The boundary is 2 + 2 + 2 + 1 below the notch, the notch's 2 sides and the hole's 3.
+        let a = &run.arrays;
+        let length: f64 = a
+            .edges
+            .iter()
+            .map(|e| {
+                let (p, q) = (a.coords[e[0] as usize], a.coords[e[1] as usize]);
+                (p[0] - q[0]).hypot(p[1] - q[1])
+            })
+            .sum();
+        let expected = 7.0 + 2.0 * 0.5f64.hypot(0.5) + 1.0 + 2.0 * 0.5f64.hypot(0.5);
+        assert!((length - expected).abs() < 1e-12, "{length} vs {expected}");
     }
 }
 

@@ -77,6 +77,7 @@ fn check_enclosing(plc: &Plc3, run: &MeshRun3, chi: i64, delaunay: bool, enclose
     let euler =
         a.coords.len() as i64 - edges.len() as i64 + faces.len() as i64 - a.tets.len() as i64;
     assert_eq!(euler, chi, "Euler characteristic");
+    assert_faces_bound_tetrahedra(a);
     if delaunay {
         run.mesh
             .ct
@@ -84,6 +85,72 @@ fn check_enclosing(plc: &Plc3, run: &MeshRun3, chi: i64, delaunay: bool, enclose
             .expect("Delaunay with protected faces waived");
     } else {
         run.mesh.ct.validate_structure().expect("valid structure");
+    }
+}
+
+/// Every boundary triangle is a face of a tetrahedron.
+fn assert_faces_bound_tetrahedra(a: &delmesh::recovery::MeshArrays3) {
+    let mut faces = std::collections::HashSet::new();
+    for t in &a.tets {
+        for i in 0..4 {
+            let mut f = [t[(i + 1) % 4], t[(i + 2) % 4], t[(i + 3) % 4]];
+            f.sort_unstable();
+            faces.insert(f);
+        }
+    }
+    for f in &a.faces {
+        let mut key = *f;
+        key.sort_unstable();
+        assert!(
+            faces.contains(&key),
+            "boundary triangle {f:?} bounds no tetrahedron"
+        );
+    }
+}
+
+#[test]
+fn a_facet_between_a_hole_and_the_outside_bounds_nothing() {
+    // A box [0,2]³ with a tetrahedral pocket on its bottom face, emptied by a hole seed: the
+    // pocket's base, a triangle of the bottom facet, lies between the hole and the outside.
+    // It was written as a boundary triangle of no tetrahedron.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("pocket.poly");
+    std::fs::write(
+        &path,
+        "12 3 0 0\n1 0 0 0\n2 2 0 0\n3 2 2 0\n4 0 2 0\n5 0 0 2\n6 2 0 2\n7 2 2 2\n\
+         8 0 2 2\n9 0.5 0.5 0\n10 1.5 0.5 0\n11 1 1.5 0\n12 1 1 1\n9 1\n\
+         2 0 1\n4 1 2 3 4\n3 9 10 11\n1 0 1\n4 5 6 7 8\n1 0 1\n4 1 2 6 5\n\
+         1 0 1\n4 2 3 7 6\n1 0 1\n4 3 4 8 7\n1 0 1\n4 4 1 5 8\n\
+         1 0 2\n3 9 10 12\n1 0 2\n3 10 11 12\n1 0 2\n3 11 9 12\n1\n1 1 0.9 0.2\n0\n",
+    )
+    .unwrap();
+    let plc = delmesh::mesh3d::read_plc3(&path).unwrap();
+    for recovery in [
+        RecoveryMethod3::Conforming,
+        RecoveryMethod3::APriori,
+        RecoveryMethod3::Constrained,
+    ] {
+        let run = mesh_with(&plc, recovery, options(1.0));
+        let a = &run.arrays;
+        assert_faces_bound_tetrahedra(a);
+        let volume: f64 = a
+            .tets
+            .iter()
+            .map(|t| {
+                let p = t.map(|i| a.coords[i as usize]);
+                tet_volume(p[0], p[1], p[2], p[3])
+            })
+            .sum();
+        assert!((volume - (8.0 - 1.0 / 6.0)).abs() < 1e-12, "{volume}");
+        // The boundary: the box's 24 less the base's 0.5, and the pocket's three sides.
+        let boundary: f64 = a
+            .faces
+            .iter()
+            .map(|f| area(f.map(|i| a.coords[i as usize])))
+            .sum();
+        let sides = area([[0.5, 0.5, 0.0], [1.5, 0.5, 0.0], [1.0, 1.0, 1.0]])
+            + 2.0 * area([[1.5, 0.5, 0.0], [1.0, 1.5, 0.0], [1.0, 1.0, 1.0]]);
+        assert!((boundary - (23.5 + sides)).abs() < 1e-12, "{boundary}");
     }
 }
 
