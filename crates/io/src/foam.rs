@@ -208,7 +208,7 @@ fn order_faces(
     markers.sort_unstable();
     markers.dedup();
     let unmarked = paired.1.iter().any(|(k, _)| !marker.contains_key(k));
-    let patches = patches(dir, &markers, name, unmarked)?;
+    let patches = patches(&markers, name, unmarked);
     let patch_of = |k: u128| match marker.get(&k) {
         Some(m) => markers.binary_search(m).expect("a marker of the list"),
         None => markers.len(),
@@ -238,11 +238,13 @@ fn too_large(file: &Path, cells: usize) -> IoError {
 
 /// `name` as an OpenFOAM patch or zone name (a `word`: no white space, quotes, slashes,
 /// semicolons, braces or parentheses), each character it cannot hold replaced by `_`: STL
-/// solid names such as gmsh's "Created by Gmsh" were refused, after all the meshing. `None`
-/// for an empty name (the patch is then `marker_<m>`).
+/// solid names such as gmsh's "Created by Gmsh" were refused, after all the meshing; one
+/// that starts like a number gets `patch_` in front. `None` for an empty name (the patch is
+/// then `marker_<m>`).
 fn as_word(name: &str) -> Option<String> {
     (!name.is_empty()).then(|| {
-        name.chars()
+        let word: String = name
+            .chars()
             .map(|c| {
                 if c.is_whitespace() || "\"'/\\;{}()".contains(c) {
                     '_'
@@ -250,36 +252,37 @@ fn as_word(name: &str) -> Option<String> {
                     c
                 }
             })
-            .collect()
+            .collect();
+        // A name that starts like a number would be read back as one ("123", a gmsh
+        // physical group's number used as its name).
+        if word.starts_with(|c: char| c.is_ascii_digit() || "+-.".contains(c)) {
+            format!("patch_{word}")
+        } else {
+            word
+        }
     })
 }
 
-/// The boundary patches of `markers` (sorted, distinct), checked, then `defaultFaces` if asked.
-fn patches(
-    file: &Path,
-    markers: &[i32],
-    name: impl Fn(i32) -> String,
-    default: bool,
-) -> Result<Vec<Patch>, IoError> {
+/// The boundary patches of `markers` (sorted, distinct), named as words (a name an earlier
+/// patch has gets `_<m>`), then `defaultFaces` if asked.
+fn patches(markers: &[i32], name: impl Fn(i32) -> String, default: bool) -> Vec<Patch> {
     let mut out: Vec<Patch> = Vec::with_capacity(markers.len() + 1);
     let names = markers
         .iter()
         .map(|&m| (m, name(m)))
         .chain(default.then(|| (0, "defaultFaces".to_string())));
     for (m, given) in names {
-        let name = as_word(&given).unwrap_or_else(|| format!("marker_{m}"));
+        let mut name = as_word(&given).unwrap_or_else(|| format!("marker_{m}"));
+        // (Two markers whose names differ only by the characters replaced.)
         if out.iter().any(|p| p.name == name) {
-            return Err(IoError::invalid(
-                file,
-                format!("two boundary patches would both be named {name:?}"),
-            ));
+            name = format!("{name}_{m}");
         }
         out.push(Patch {
             name,
             kind: "patch",
         });
     }
-    Ok(out)
+    out
 }
 
 /// Cell zones `region_<r>` of the cells' regions, if there are two or more.

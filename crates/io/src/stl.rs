@@ -10,9 +10,9 @@
 //! - ASCII: `solid [name]`, then `facet normal nx ny nz` / `outer loop` / three
 //!   `vertex x y z` / `endloop` / `endfacet`, then `endsolid [name]`; keywords are matched
 //!   without regard to case, and several solids may follow each other (as in the multi-patch
-//!   files of OpenFOAM's tools). Triangles of the k-th solid (1-based) get marker k, and solid
-//!   names become marker names. Coordinates are parsed as `f64`. Normals must be numbers but are
-//!   otherwise ignored (they are recomputed from the corners by every consumer).
+//!   files of OpenFOAM's tools). Solid names become marker names: the k-th distinct name (or
+//!   unnamed solid) is marker k, and solids named alike share it. Coordinates are parsed as
+//!   `f64`. Normals must be numbers but are otherwise ignored (they are recomputed from the corners by every consumer).
 //! - Binary: an 80-byte header, a little-endian `u32` triangle count, then 50 bytes per
 //!   triangle (normal and three corners as `f32`, a `u16` attribute that is ignored). All
 //!   triangles get marker 0; since the file has no lines, a facet's `line` is its 1-based
@@ -243,15 +243,26 @@ fn parse_ascii(text: &str, file: &Path) -> Result<SurfaceFile, IoError> {
 
     let mut merger = PointMerger::default();
     let mut facets = Vec::new();
-    let mut marker_names = Vec::new();
-    let mut solid = 0i32;
+    let mut marker_names: Vec<(i32, String)> = Vec::new();
+    let mut markers = 0i32;
     expect(&mut sc, "solid")?;
     loop {
-        solid += 1;
+        // Solids of one name share its marker (concatenated exports of one tool all name
+        // their solid alike; a patch is known by its name); a solid without one has its own.
         let name = sc.rest_of_line();
-        if !name.is_empty() {
-            marker_names.push((solid, name.to_string()));
-        }
+        let solid = match marker_names
+            .iter()
+            .find(|(_, n)| !name.is_empty() && n == name)
+        {
+            Some(&(m, _)) => m,
+            None => {
+                markers += 1;
+                if !name.is_empty() {
+                    marker_names.push((markers, name.to_string()));
+                }
+                markers
+            }
+        };
         loop {
             let Some((line, t)) = sc.next_token() else {
                 return Err(IoError::parse(

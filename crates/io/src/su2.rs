@@ -6,7 +6,8 @@
 //! `MARKER_TAG= <name>`, `MARKER_ELEMS= <m>` and its triangles `5 a b c` (VTK type 5).
 //! Markers are written in increasing order, each named by [`TetMeshOut::marker_names`] or
 //! `marker_<m>`; the names are what the solver's configuration file refers to
-//! (`MARKER_EULER= ( wing )`), so they must not contain white space. A single-zone SU2 mesh has
+//! (`MARKER_EULER= ( wing )`), so characters a marker list cannot hold become `_` (see
+//! `marker_tags`). A single-zone SU2 mesh has
 //! no cell zones: regions and point markers are not written.
 //!
 //! 2D ([`write_su2_2d`]): `NDIME= 2`; triangles `5 a b c <index>`; points `x y <index>`; per
@@ -26,24 +27,40 @@ use crate::IoError;
 pub fn write_su2(path: &Path, mesh: &TetMeshOut<'_>) -> Result<(), IoError> {
     mesh.check(path)?;
     let markers = mesh.distinct_markers();
-    let names: Vec<String> = markers.iter().map(|&m| mesh.marker_name(m)).collect();
-    for (i, name) in names.iter().enumerate() {
-        if name.chars().any(char::is_whitespace) {
-            return Err(IoError::invalid(
-                path,
-                format!("SU2 marker name {name:?} contains white space"),
-            ));
-        }
-        if names[..i].contains(name) {
-            return Err(IoError::invalid(
-                path,
-                format!("two markers are both named {name:?}"),
-            ));
-        }
-    }
+    let names = marker_tags(&markers, |m| mesh.marker_name(m));
     write_atomic(path, |w| {
         su2_body(w, mesh, &markers, &names).map_err(|e| IoError::io(path, e))
     })
+}
+
+/// The `MARKER_TAG` of each marker: its name with each character a configuration file's
+/// marker list cannot hold (white space, `,()=;%`) replaced by `_` (gmsh's STL solid name
+/// "Created by Gmsh" was refused, after all the meshing), `marker_<m>` if it has none, and
+/// `_<m>` appended to a name an earlier marker already has.
+fn marker_tags(markers: &[i32], name: impl Fn(i32) -> String) -> Vec<String> {
+    let mut tags: Vec<String> = Vec::with_capacity(markers.len());
+    for &m in markers {
+        let given: String = name(m)
+            .chars()
+            .map(|c| {
+                if c.is_whitespace() || ",()=;%".contains(c) {
+                    '_'
+                } else {
+                    c
+                }
+            })
+            .collect();
+        let mut tag = if given.is_empty() {
+            format!("marker_{m}")
+        } else {
+            given
+        };
+        if tags.contains(&tag) {
+            tag = format!("{tag}_{m}");
+        }
+        tags.push(tag);
+    }
+    tags
 }
 
 fn su2_body(

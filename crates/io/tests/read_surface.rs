@@ -259,6 +259,19 @@ fn ascii_stl_merges_points_and_numbers_solids() {
         s.facets.iter().map(|f| f.line).collect::<Vec<_>>(),
         [2, 9, 18]
     );
+    // Solids of one name share its marker (concatenated exports, each solid named alike,
+    // gave one marker per solid, all called the same); unnamed solids have their own.
+    let renamed = TWO_SOLIDS.replace("SOLID lid", "solid first part");
+    let three = format!(
+        "{renamed}{}",
+        TWO_SOLIDS.replace("solid first part\n", "solid\n")
+    );
+    let s = parse_stl(three.as_bytes(), Path::new("s.stl")).unwrap();
+    assert_eq!(markers(&s), [1, 1, 1, 2, 2, 3]);
+    assert_eq!(
+        s.marker_names,
+        [(1, "first part".to_string()), (3, "lid".to_string())]
+    );
 
     let stl = |t: String| parse_error(parse_stl(t.as_bytes(), Path::new("s.stl")));
     let cases: Vec<(String, usize, &str)> = vec![
