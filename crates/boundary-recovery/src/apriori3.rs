@@ -3,24 +3,34 @@
 //! construction.
 //!
 //! For a surface triangle with circumcentre `c`, circumradius `R`, unit normal `n` and mean edge
-//! length `L`, the point is `c + s·h·n` on the side `s` (±1) of the domain, at the height
-//! `h = √(2/3)·L` of a regular tetrahedron on the face, or lower (3/4, 1/2 of it) if the sphere
-//! through the face and the point is not empty, or if another point lies within `h/4` of the
-//! new one (on the sphere: the two triangles of a rectangle would get one point), or if the
-//! point lies on the surface (a right triangle's circumcentre is the midpoint of its longest
-//! edge, and where that edge is a cube's, or a wall meets a facet, the normal runs along the
-//! next facet: a point in a surface triangle makes it unrecoverable). That sphere
-//! has its centre at `c + s·σ·n` with `σ = (h² − R²)/(2h)` and radius `√(R² + σ²)`. Emptiness
-//! is checked against every point known so far (surface points, field points and the a-priori
-//! points already placed) through a uniform grid. Faces for which no height works (tight
-//! corners, skinny faces whose circumsphere is large) are left to edge and face checking, which
-//! also repairs anything the new points broke; the history says how many.
+//! length `L`, the point is `f + s·h·n` on the side `s` (±1) of the domain, above the foot `f`:
+//! the circumcentre, or, where that lies outside the triangle (an obtuse one), the midpoint of
+//! the longest edge, the triangle's point nearest to it. Above the circumcentre of a needle the
+//! point lay as far beside the face as `R` (1.25e10 for a 1e-11-high triangle in a unit cube)
+//! and its sphere's radius was `R²/2h`. The point is at the height `h = √(2/3)·L` of a regular
+//! tetrahedron on the face, or lower (3/4, 1/2 of it) if the sphere through the face and the
+//! point is not empty, or if another point lies within `h/4` of the new one (on the sphere: the
+//! two triangles of a rectangle would get one point), or if the point lies on the surface (a
+//! right triangle's circumcentre is the midpoint of its longest edge, and where that edge is a
+//! cube's, or a wall meets a facet, the normal runs along the next facet: a point in a surface
+//! triangle makes it unrecoverable). That sphere has its centre at `c + s·σ·n` with
+//! `σ = (h² − R² + |f − c|²)/(2h)` and radius `√(R² + σ²)`, at least `R`. Emptiness is checked
+//! against every point known so far (surface points, field points and the a-priori points
+//! already placed) by the exact in-sphere test, on the points a uniform grid finds near the
+//! sphere. Faces for which no height works (tight corners, skinny faces whose circumsphere is
+//! large) are left to edge and face checking, which also repairs anything the new points
+//! broke; the history says how many.
 
 use crate::plc3::SurfaceTriangle;
+use crate::recovery3::{dot, sub};
+use delmesh_predicates::{insphere, orient3d, Sign};
 use rustc_hash::FxHashMap as HashMap;
 
 /// An a-priori point must be farther than this many times its height from every other point.
 const NEAR: f64 = 0.25;
+
+/// A ball spanning more grid cells than this is not searched: it counts as occupied.
+const MAX_CELLS: f64 = 4096.0;
 
 /// A uniform hash grid of points for ball queries.
 struct Grid {
@@ -36,6 +46,8 @@ impl Grid {
         }
     }
 
+    /// The cell of `p`. Saturating past `i64` (a point beyond 2^63 cells) keeps the key
+    /// monotonic in each coordinate, which is all the range search needs.
     fn key(&self, p: [f64; 3]) -> [i64; 3] {
         p.map(|x| (x / self.cell).floor() as i64)
     }
@@ -45,29 +57,33 @@ impl Grid {
         self.buckets.entry(k).or_default().push(p);
     }
 
-    /// Whether some point other than `exclude` lies strictly inside the ball.
-    fn any_inside(&self, centre: [f64; 3], radius: f64, exclude: &[[f64; 3]; 3]) -> bool {
-        let lo = self.key(centre.map(|x| x - radius));
-        let hi = self.key(centre.map(|x| x + radius));
-        // A ball much larger than the grid spacing is not worth searching: treat as occupied.
-        if (0..3).map(|k| (hi[k] - lo[k] + 1) as u64).product::<u64>() > 4096 {
+    /// Whether `inside` holds for some point near the ball at `centre` of `radius` (every
+    /// point in it is tried). A ball much larger than the grid spacing, or not finite, is not
+    /// searched: it counts as occupied.
+    fn any_inside(&self, centre: [f64; 3], radius: f64, inside: impl Fn([f64; 3]) -> bool) -> bool {
+        // The ball is rounded: widened by far more than that for any face not flat to rounding,
+        // so that the exact test sees every point it would find inside (what a point placed
+        // next to a missed one breaks, checking repairs).
+        let reach = radius + radius / 1024.0;
+        // The cell range is counted in floating point first. In integers, a ball beyond i64's
+        // cells (the sphere of a needle face, 1e20 across) saturated both ends, `hi − lo + 1`
+        // wrapped to 0, the count passed and the loops ran over 2^64 cells per axis.
+        let lo = centre.map(|x| ((x - reach) / self.cell).floor());
+        let hi = centre.map(|x| ((x + reach) / self.cell).floor());
+        let cells: f64 = (0..3).map(|k| hi[k] - lo[k] + 1.0).product();
+        if cells.is_nan() || cells > MAX_CELLS {
             return true;
         }
-        let r2 = radius * radius;
+        // At most MAX_CELLS cells, in the same monotonic keys as `key`.
+        let (lo, hi) = (lo.map(|x| x as i64), hi.map(|x| x as i64));
         for i in lo[0]..=hi[0] {
             for j in lo[1]..=hi[1] {
                 for k in lo[2]..=hi[2] {
                     let Some(bucket) = self.buckets.get(&[i, j, k]) else {
                         continue;
                     };
-                    for q in bucket {
-                        if exclude.contains(q) {
-                            continue;
-                        }
-                        let d = [q[0] - centre[0], q[1] - centre[1], q[2] - centre[2]];
-                        if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < r2 {
-                            return true;
-                        }
+                    if bucket.iter().any(|&q| inside(q)) {
+                        return true;
                     }
                 }
             }
@@ -106,6 +122,7 @@ pub(crate) fn a_priori_points(
             rejected += 1;
             continue;
         };
+        let (f, w2) = foot(p, c, r);
         let length = (dist(p[0], p[1]) + dist(p[1], p[2]) + dist(p[2], p[0])) / 3.0;
         let sides: &[f64] = match side(k) {
             s if s > 0.0 => &[1.0],
@@ -114,19 +131,31 @@ pub(crate) fn a_priori_points(
         };
         let mut found = None;
         'search: for &s in sides {
-            for f in [1.0, 0.75, 0.5] {
-                let h = f * (2.0f64 / 3.0).sqrt() * length;
-                let sigma = (h * h - r * r) / (2.0 * h);
+            for scale in [1.0, 0.75, 0.5] {
+                let h = scale * (2.0f64 / 3.0).sqrt() * length;
+                let q = [0, 1, 2].map(|i| f[i] + s * h * n[i]);
+                // The point must lie off the face's plane on side `s`, exactly (the normal of
+                // a face flat to rounding can point anywhere); its side orients the sphere.
+                let turn = if q.iter().all(|x| x.is_finite()) {
+                    orient3d(p[0], p[1], p[2], q)
+                } else {
+                    Sign::Zero
+                };
+                if turn != Sign::of(s) {
+                    continue;
+                }
+                let sigma = (h * h - w2) / (2.0 * h);
                 let centre = [0, 1, 2].map(|i| c[i] + s * sigma * n[i]);
                 let radius = (r * r + sigma * sigma).sqrt();
-                let q = [0, 1, 2].map(|i| c[i] + s * h * n[i]);
+                let in_sphere = |x| insphere(p[0], p[1], p[2], q, x) == turn;
+                let near = |x| dist(x, q) < NEAR * h;
                 // A point on the sphere is no obstacle to the face, but one at (or by) q would
                 // be a near-duplicate: the two triangles of a rectangle have one circumcircle,
                 // normal and mean edge length, so their points fell together (to rounding).
                 // A point on the surface (another facet crossing the face's normal, as
                 // walls between regions do) would sit inside a surface triangle.
-                if !grid.any_inside(centre, radius, &p)
-                    && !grid.any_inside(q, NEAR * h, &p)
+                if !grid.any_inside(centre, radius, in_sphere)
+                    && !grid.any_inside(q, NEAR * h, near)
                     && !on_surface(q)
                 {
                     found = Some(q);
@@ -143,6 +172,23 @@ pub(crate) fn a_priori_points(
         }
     }
     (placed, rejected)
+}
+
+/// The foot `f` of a face's point (see the module docs) and `R² − |f − c|²`, minus the power
+/// of the foot with respect to the circumcircle: `R²` at the circumcentre, half the longest
+/// edge squared at its midpoint (so, without cancelling two squares of a large circumradius).
+/// The two feet agree at a right angle, so rounding in the choice moves the point by rounding.
+fn foot(p: [[f64; 3]; 3], c: [f64; 3], r: f64) -> ([f64; 3], f64) {
+    let edge = |k: usize| (p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
+    let (a, b, apex) = (0..3)
+        .map(edge)
+        .max_by(|x, y| dist(x.0, x.1).total_cmp(&dist(y.0, y.1)))
+        .expect("three edges");
+    if dot(sub(a, apex), sub(b, apex)) >= 0.0 {
+        return (c, r * r);
+    }
+    let half = dist(a, b) / 2.0;
+    ([0, 1, 2].map(|k| 0.5 * (a[k] + b[k])), half * half)
 }
 
 fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -187,6 +233,86 @@ fn circle(p: [[f64; 3]; 3]) -> Option<([f64; 3], f64, [f64; 3])> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::sync::mpsc;
+    use std::time::Duration;
+
+    /// `f`'s result, or a failure if it takes longer than `seconds` (instead of a test that
+    /// never ends).
+    fn within<T: Send + 'static>(seconds: u64, f: impl FnOnce() -> T + Send + 'static) -> T {
+        let (send, receive) = mpsc::channel();
+        std::thread::spawn(move || send.send(f()));
+        receive
+            .recv_timeout(Duration::from_secs(seconds))
+            .expect("finished")
+    }
+
+    /// A unit cube's corners and a point `height` off its top edge `y = 0` at `x`: the top
+    /// triangle `[4, 5, 8]` is a needle.
+    fn needle(x: f64, height: f64) -> Vec<[f64; 3]> {
+        let mut points: Vec<[f64; 3]> = (0..8)
+            .map(|c| [0, 1, 2].map(|k| f64::from((c >> k) & 1)))
+            .collect();
+        points.push([x, height, 1.0]);
+        points
+    }
+
+    #[test]
+    fn a_needle_face_gets_no_point_and_the_search_ends() {
+        // Above the circumcentre of a 1e-11-high needle (1.25e10 away) the sphere's radius was
+        // 1e20: its cell range saturated i64, the count of cells wrapped to 0 and the search
+        // ran over 2^64 cells per axis. Its sphere is still at least the circumradius across:
+        // too large to search, so the face is left to checking.
+        for (x, height) in [(0.5, 1e-11), (0.3, 1e-14), (0.9, 1e-16), (0.5, 1e-10)] {
+            let t = [SurfaceTriangle {
+                v: [4, 5, 8],
+                marker: 0,
+                facet: 0,
+            }];
+            let points = needle(x, height);
+            let (placed, none) = within(10, move || {
+                a_priori_points(&points, &[], &t, |_| -1.0, |_| false)
+            });
+            assert_eq!((placed.len(), none), (0, 1), "{x} {height}: {placed:?}");
+        }
+    }
+
+    #[test]
+    fn balls_too_large_for_the_cells_are_occupied_and_far_ones_searched() {
+        let any = |_| true;
+        for radius in [1e20, 1e300, f64::MAX, f64::INFINITY, f64::NAN] {
+            assert!(
+                within(10, move || Grid::new(1.0).any_inside([0.0; 3], radius, any)),
+                "{radius}"
+            );
+        }
+        // Points beyond i64's cells share the last one (keys saturate), and are found there.
+        let mut grid = Grid::new(1.0);
+        for x in [1e25, f64::MAX] {
+            grid.add([x, 0.0, 0.0]);
+        }
+        for x in [1e25, f64::MAX] {
+            assert!(grid.any_inside([x, 0.0, 0.0], 0.5, |q| q[0] == x), "{x}");
+            assert!(!grid.any_inside([x, 3.0, 0.0], 0.5, any), "{x}");
+        }
+    }
+
+    #[test]
+    fn an_obtuse_face_gets_its_point_above_it() {
+        // The circumcentre lies 1.2 beyond the longest edge: the point goes above that edge's
+        // midpoint, not beside the face, and its sphere's radius is 1.30 (R = 1.3), not 1.81.
+        let points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, 0.1, 0.0]];
+        let t = [SurfaceTriangle {
+            v: [0, 1, 2],
+            marker: 0,
+            facet: 0,
+        }];
+        let (placed, none) = a_priori_points(&points, &[], &t, |_| 1.0, |_| false);
+        assert_eq!((placed.len(), none), (1, 0));
+        let q = placed[0];
+        assert!(q[0] == 0.5 && q[1] == 0.0 && q[2] > 0.0, "{q:?}");
+        let (c, r, _) = circle(points).unwrap();
+        assert_eq!(foot(points, c, r), ([0.5, 0.0, 0.0], 0.25));
+    }
 
     #[test]
     fn circumcircle_of_a_right_triangle() {

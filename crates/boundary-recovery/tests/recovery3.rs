@@ -578,6 +578,42 @@ fn a_priori_points_beside_every_face() {
 }
 
 #[test]
+fn a_priori_recovery_of_a_cube_with_a_needle_face() {
+    // The top face split at a point a hair off its edge y = 0: the needle's a-priori search
+    // never ended (its sphere, 1e20 across, wrapped the grid's cell count). Now the needle is
+    // left to checking and the cube is recovered.
+    for (x, height) in [(0.5, 1e-11), (0.3, 1e-14), (0.9, 1e-16)] {
+        let mut points: Vec<[f64; 3]> = (0..8)
+            .map(|c| [0, 1, 2].map(|k| f64::from((c >> k) & 1)))
+            .collect();
+        points.push([x, height, 1.0]);
+        let triangles = [
+            [0, 2, 3],
+            [0, 3, 1],
+            [0, 1, 5],
+            [0, 5, 4],
+            [2, 6, 7],
+            [2, 7, 3],
+            [0, 4, 6],
+            [0, 6, 2],
+            [1, 3, 7],
+            [1, 7, 5],
+            [4, 5, 8],
+            [5, 7, 8],
+            [8, 7, 6],
+            [4, 8, 6],
+        ];
+        let mut plc = Plc3::default();
+        add_surface(&mut plc, &points, &triangles, 1);
+        let mesh = BoundaryRecovery3::new(RecoveryMethod3::APriori)
+            .run(&plc)
+            .unwrap();
+        check(&plc, &mesh, 1.0);
+        assert!(mesh.history.a_priori_rejected >= 1, "{}", mesh.history);
+    }
+}
+
+#[test]
 fn field_points_on_the_surface_are_left_out() {
     let (p, t) = box_surface([0.0; 3], [1.0; 3], 2, true);
     let mut plc = Plc3::default();
