@@ -114,6 +114,9 @@ pub struct MeshRun2 {
     /// ([`RegionSeed::max_area`]), before and after smoothing; `None` when no region has a
     /// limit or no points are generated.
     pub area_limited: Option<usize>,
+    /// Elements still larger than their region's area limit at the end: generation's
+    /// `max_points` ran out before they were split; 0 without limits.
+    pub area_limit_exceeded: usize,
     /// Quality of the final mesh.
     pub quality: QualityReport,
     /// Seconds spent in each stage, in order.
@@ -249,6 +252,7 @@ fn mesh_plc_as_given(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Err
         }
         None => None,
     };
+    let area_limit_exceeded = limits.as_ref().map_or(0, |l| l.too_large(&mesh).len());
     let arrays = mesh.to_arrays();
     let quality = QualityReport::of_mesh(&arrays.coords, &arrays.triangles, &arrays.neighbours);
     lap("quality and output arrays", &mut timings);
@@ -261,6 +265,7 @@ fn mesh_plc_as_given(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Err
         flips,
         refined,
         area_limited,
+        area_limit_exceeded,
         quality,
         timings,
     })
@@ -503,6 +508,13 @@ impl MeshRun2 {
             s.push_str(&format!(
                 "regional area limits: {n} points added at centroids\n"
             ));
+            if self.area_limit_exceeded > 0 {
+                s.push_str(&format!(
+                    "warning: {} triangles are still larger than their region's limit (the \
+                     --max-points budget ran out)\n",
+                    self.area_limit_exceeded
+                ));
+            }
         }
         if let Some(st) = &self.smoothing {
             s.push_str(&format!("smoothing: {st}\n"));

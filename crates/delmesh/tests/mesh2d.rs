@@ -483,9 +483,26 @@ fn regional_area_limits_bound_every_element() {
             // The first region's boundary is spaced like its interior: no element spans a
             // whole original segment.
             assert!(run.area_limited.is_some());
+            assert_eq!(run.area_limit_exceeded, 0, "{name}");
             assert!(run.arrays.edges.len() > 100, "{name}");
         }
     }
+    // A point budget too small for the limits: the triangles left too large are counted and
+    // the summary warns (it said nothing).
+    let mut options = MeshOptions2::default();
+    if let Some(g) = options.generation.as_mut() {
+        g.max_points = 10;
+    }
+    let run = mesh_plc(&plc, &options).unwrap();
+    assert!(run.area_limit_exceeded > 0);
+    assert!(
+        run.summary().contains(&format!(
+            "warning: {} triangles are still larger",
+            run.area_limit_exceeded
+        )),
+        "{}",
+        run.summary()
+    );
     // Without point generation the limits are not applied (a recovery only); a limit that
     // is not positive is an error naming the region.
     let options = MeshOptions2 {
