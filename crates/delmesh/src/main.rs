@@ -628,6 +628,26 @@ fn mesh3(args: &MeshArgs, plc: delmesh::recovery::Plc3) -> Result<()> {
                 mesh3d::MESH3_OUTPUTS
             );
         }
+        // Medit numbers regions with integers: a region attribute it cannot hold is refused
+        // now, not after the meshing.
+        if ext == "mesh" {
+            let integer = |a: f64| {
+                a.fract() == 0.0 && (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&a)
+            };
+            if let Some((k, r)) = plc
+                .regions
+                .iter()
+                .enumerate()
+                .find(|(_, r)| !integer(r.attribute))
+            {
+                anyhow::bail!(
+                    "{}: region {k} has attribute {:?}, which Medit's integer region numbers \
+                     cannot hold",
+                    out.display(),
+                    r.attribute
+                );
+            }
+        }
     }
     let mut options = MeshOptions3 {
         recovery: match args.recovery {

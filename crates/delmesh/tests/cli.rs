@@ -1185,6 +1185,36 @@ fn demo_table2_prints_the_papers_table_beside_delmeshs() {
 }
 
 #[test]
+fn a_region_medit_cannot_number_is_refused_before_meshing() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut poly = String::from("8 3 0 0\n");
+    for (i, p) in [
+        "0 0 0", "1 0 0", "1 1 0", "0 1 0", "0 0 1", "1 0 1", "1 1 1", "0 1 1",
+    ]
+    .iter()
+    .enumerate()
+    {
+        poly.push_str(&format!("{} {p}\n", i + 1));
+    }
+    poly.push_str("6 1\n");
+    for f in [
+        "1 2 3 4", "5 6 7 8", "1 2 6 5", "2 3 7 6", "3 4 8 7", "4 1 5 8",
+    ] {
+        poly.push_str(&format!("1 0 1\n4 {f}\n"));
+    }
+    poly.push_str("0\n1\n1 0.5 0.5 0.5 1.5\n");
+    std::fs::write(dir.path().join("cube.poly"), poly).unwrap();
+    // (The .mesh writer refused it, after the meshing and the .vtu.)
+    let msg = fails(&delmesh(
+        dir.path(),
+        &["mesh", "cube.poly", "-o", "c.vtu", "-o", "c.mesh"],
+    ));
+    assert!(msg.contains("region 0 has attribute 1.5"), "{msg}");
+    assert!(!dir.path().join("c.vtu").exists());
+    ok(&delmesh(dir.path(), &["mesh", "cube.poly", "-o", "c.vtu"]));
+}
+
+#[test]
 fn mesh_3d_with_a_background_mesh_and_adaptation() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("cube.off"), cube_off(1.0)).unwrap();
