@@ -75,6 +75,106 @@ fn voronoi_regions_tile_the_box() {
     );
 }
 
+/// Checks that the clipped 2D regions of `pts` tile `[lo, hi]`: each is counter-clockwise
+/// and strictly contains its point (exact orientations of its corners), and their areas add
+/// up to the box's (relative `1e-12`).
+fn assert_regions_tile(pts: &[[f64; 2]], lo: [f64; 2], hi: [f64; 2]) {
+    let t = Triangulation2::new(pts).unwrap();
+    let cells = t.voronoi_cells(lo, hi);
+    let mut total = 0.0;
+    for cell in &cells {
+        let poly = &cell.polygon;
+        let n = poly.len();
+        assert!(n >= 3, "{pts:?}: point {} has no region", cell.point);
+        let site = pts[cell.point];
+        let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        for k in 0..n {
+            let (p, q) = (poly[k], poly[(k + 1) % n]);
+            // (Edges of rounding length: co-circular points' circumcentres.)
+            let tiny = (p[0] - q[0]).abs().max((p[1] - q[1]).abs()) <= 1e-12 * size;
+            assert!(
+                tiny || delmesh_predicates::orient2d(p, q, site)
+                    == delmesh_predicates::Sign::Positive,
+                "{pts:?}: region of {} does not contain it: {poly:?}",
+                cell.point
+            );
+        }
+        total += (0..n)
+            .map(|k| {
+                let (p, q) = (poly[k], poly[(k + 1) % n]);
+                (p[0] - lo[0]) * (q[1] - lo[1]) - (p[1] - lo[1]) * (q[0] - lo[0])
+            })
+            .sum::<f64>()
+            / 2.0;
+    }
+    let area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+    assert!(
+        (total - area).abs() <= 1e-12 * area,
+        "{pts:?}: regions cover {total}, the box {area}"
+    );
+}
+
+/// The CLI's box: the bounding box enlarged by 10% on each side.
+fn enlarged_box(pts: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in pts {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    for k in 0..2 {
+        let m = 0.1 * (hi[k] - lo[k]);
+        lo[k] -= m;
+        hi[k] += m;
+    }
+    (lo, hi)
+}
+
+#[test]
+fn unbounded_regions_with_far_circumcentres_tile_the_box() {
+    // An obtuse triangle: its circumcentre (−41.2, 73.5) is far left of the box, and the region
+    // of (23, 25) is a wedge of nearly a half-turn from it. The ray truncation used to close
+    // that wedge through a point outside it (a self-intersecting polygon of area −132.7).
+    let pts = [[23.0, 25.0], [39.0, 80.0], [39.0, 67.0]];
+    let (lo, hi) = enlarged_box(&pts);
+    assert_regions_tile(&pts, lo, hi);
+    // Two points 5e-13 apart next to one 4e4 away: the circumcentre is 2.5e4 off the box's
+    // side, the two clustered points' regions are half-planes.
+    let pts = [
+        [7e-13, 3.0000000000000003e-13],
+        [2e-13, 3.0000000000000003e-13],
+        [22000.0, 38000.0],
+    ];
+    let (lo, hi) = enlarged_box(&pts);
+    assert_regions_tile(&pts, lo, hi);
+    // Random small integer sets (about 1 in 150 failed).
+    let mut rng = <rand::rngs::StdRng as rand::SeedableRng>::seed_from_u64(31);
+    let mut tested = 0;
+    for _ in 0..3000 {
+        let n = rand::Rng::gen_range(&mut rng, 3..=8);
+        let pts: Vec<[f64; 2]> = (0..n)
+            .map(|_| {
+                [
+                    f64::from(rand::Rng::gen_range(&mut rng, 0..=100)),
+                    f64::from(rand::Rng::gen_range(&mut rng, 0..=100)),
+                ]
+            })
+            .collect();
+        let mut distinct = pts.clone();
+        distinct.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        distinct.dedup();
+        if Triangulation2::new(&distinct).is_err() {
+            continue; // collinear
+        }
+        let (lo, hi) = enlarged_box(&distinct);
+        assert_regions_tile(&distinct, lo, hi);
+        tested += 1;
+    }
+    assert!(tested > 2900);
+}
+
 #[test]
 fn bounded_3d_regions_have_equidistant_faces() {
     let pts = uniform3(400, 23);
