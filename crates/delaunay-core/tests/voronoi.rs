@@ -175,6 +175,140 @@ fn unbounded_regions_with_far_circumcentres_tile_the_box() {
     assert!(tested > 2900);
 }
 
+/// Asserts that every Voronoi vertex of `vd` is equidistant from its forming points within
+/// `1e-9` of the distance, and that no input point is closer to it than they are (by more).
+fn assert_centres_equidistant<D: Dim>(vd: &VoronoiDiagram<D>, pts: &[D::Point]) {
+    let dist = |p: &D::Point, q: &D::Point| {
+        p.as_ref()
+            .iter()
+            .zip(q.as_ref())
+            .map(|(x, y)| (x - y).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    for i in 0..vd.len() {
+        let o = vd.circumcenter(i);
+        let d: Vec<f64> = vd
+            .forming_points(i)
+            .iter()
+            .map(|&k| dist(&o, &pts[k as usize]))
+            .collect();
+        let nearest = pts
+            .iter()
+            .map(|p| dist(&o, p))
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            d.iter().all(|r| (r - d[0]).abs() <= 1e-9 * d[0]) && nearest >= d[0] * (1.0 - 1e-9),
+            "vertex {i} {o:?} of {:?}: distances {d:?}, nearest point {nearest}",
+            vd.forming_points(i)
+        );
+    }
+}
+
+#[test]
+fn circumcentres_of_cells_spanning_many_scales_are_accurate() {
+    // Three points within 1e-12 and two 1e5–1e6 away. From a far point the edge vectors to the
+    // cluster round to the same vector, and the floating-point centre was that far point. The
+    // exact centres of the tetrahedra (computed with Python's fractions, correctly rounded):
+    let pts = [
+        [
+            5.250011572292198e-13,
+            4.32224626990782e-13,
+            9.042839633242201e-13,
+        ],
+        [
+            3.2069038530630267e-13,
+            5.468077433143392e-14,
+            7.255828799024899e-13,
+        ],
+        [
+            9.001377704234459e-13,
+            7.320068357623053e-13,
+            5.975216204070308e-13,
+        ],
+        [88385.4015923462, 363581.9555532492, 374484.9564899955],
+        [605541.7884953943, 970406.8915713335, 976457.2905077733],
+    ];
+    let exact: [([u32; 4], [f64; 3]); 5] = [
+        (
+            [0, 1, 2, 3],
+            [-11368131.532341419, 8705387.200640356, -5394671.791956129],
+        ),
+        (
+            [0, 1, 2, 4],
+            [3471170.370679039, -2658122.139965033, 1647220.990582546],
+        ),
+        (
+            [0, 1, 3, 4],
+            [2163157.7579381578, -2046533.6971039306, 1850575.1557530416],
+        ),
+        (
+            [0, 2, 3, 4],
+            [2124519.312724006, -1398934.8451397014, 1230950.312371019],
+        ),
+        (
+            [1, 2, 3, 4],
+            [2134332.9753310033, -1563416.5317767262, 1388326.964618863],
+        ),
+    ];
+    // Within 1.5e-14 of the centre's largest coordinate.
+    let close = |c: &[f64], e: &[f64]| {
+        let size = e.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        c.iter()
+            .zip(e)
+            .all(|(x, y)| (x - y).abs() <= 1.5e-14 * size)
+    };
+    let t = Triangulation3::new(&pts).unwrap();
+    let vd = VoronoiDiagram::new(&t);
+    assert!(vd.len() >= 2);
+    for i in 0..vd.len() {
+        let (_, e) = exact
+            .iter()
+            .find(|(f, _)| f.as_slice() == vd.forming_points(i))
+            .expect("a tetrahedron of the five points");
+        assert!(
+            close(&vd.circumcenter(i), e),
+            "{:?}: {:?}",
+            vd.forming_points(i),
+            vd.circumcenter(i)
+        );
+    }
+    // The bounded region of point 0 (inside the hull) has these centres as its corners.
+    let shared = t.voronoi_faces_shared();
+    assert!(!shared.is_empty());
+    for v in &shared.vertices {
+        assert!(exact.iter().any(|(_, e)| close(v, e)), "{v:?}");
+    }
+    // 2D: two points 5e-13 apart and one at (22000, 38000); exact centre (4.5e-13, 25368.42…).
+    let pts = [
+        [7e-13, 3.0000000000000003e-13],
+        [2e-13, 3.0000000000000003e-13],
+        [22000.0, 38000.0],
+    ];
+    let t = Triangulation2::new(&pts).unwrap();
+    let c = VoronoiDiagram::new(&t).circumcenter(0);
+    assert!(close(&c, &[4.5e-13, 25368.42105263158]), "{c:?}");
+    // Clusters in [0, 1e-12] next to points in [0, 1e6]: 500 + 500 in 2D, 50 + 250 in 3D.
+    let mut rng = <rand::rngs::StdRng as rand::SeedableRng>::seed_from_u64(32);
+    let mut coordinate =
+        |k: usize| rand::Rng::gen::<f64>(&mut rng) * if k % 2 == 0 { 1e-12 } else { 1e6 };
+    let pts: Vec<[f64; 2]> = (0..1000)
+        .map(|k| [coordinate(k / 500), coordinate(k / 500)])
+        .collect();
+    let t = Triangulation2::new(&pts).unwrap();
+    assert_centres_equidistant(&VoronoiDiagram::new(&t), &pts);
+    let (lo, hi) = enlarged_box(&pts);
+    assert_regions_tile(&pts, lo, hi);
+    let pts: Vec<[f64; 3]> = (0..300)
+        .map(|k| {
+            let s = usize::from(k >= 50);
+            [coordinate(s), coordinate(s), coordinate(s)]
+        })
+        .collect();
+    let t = Triangulation3::new(&pts).unwrap();
+    assert_centres_equidistant(&VoronoiDiagram::new(&t), &pts);
+}
+
 #[test]
 fn bounded_3d_regions_have_equidistant_faces() {
     let pts = uniform3(400, 23);
