@@ -42,7 +42,9 @@ pub trait Dim: Copy + Clone + Debug + Send + Sync + 'static {
     /// The Hilbert-curve key of a point quantised to 16 bits per axis.
     fn hilbert_key(q: &[u32]) -> u64;
 
-    /// Circumcentre of the cell `p[0..C]` (a floating-point construction).
+    /// Circumcentre of the cell `p[0..C]`: a construction, within about 1.4e-14 of its largest
+    /// coordinate (floating point where its error bound allows, else computed exactly and
+    /// rounded), for any shape and scale of the cell. Not finite for a flat cell.
     fn circumcenter(p: &[Self::Point]) -> Self::Point;
 }
 
@@ -122,18 +124,27 @@ impl Dim for D2 {
         let (cx, cy) = (s * (c[0] - a[0]), s * (c[1] - a[1]));
         let b2 = bx * bx + by * by;
         let c2 = cx * cx + cy * cy;
-        // The denominator from the exact sign's evaluation where rounding could decide it
-        // (nearly collinear points: the plain value can be 0, and the centre NaN).
         let (l, r) = (bx * cy, by * cx);
-        let mut det = l - r;
-        if det.abs() <= 3.4e-16 * (l.abs() + r.abs()) {
-            det = exact_scaled(pred::orient2d_value(a, b, c), s * s, det);
+        let det = l - r;
+        let n = [cy * b2 - by * c2, bx * c2 - cx * b2];
+        let center = [
+            a[0] + unscale * (n[0] / (2.0 * det)),
+            a[1] + unscale * (n[1] / (2.0 * det)),
+        ];
+        // Error bounds, counting the rounding of the edge vectors: γ7 and γ4 times the
+        // permanents (one more unit for the second-order terms).
+        let bound = Bounds {
+            numerators: [
+                8.0 * UNIT * (cy.abs() * b2 + by.abs() * c2),
+                8.0 * UNIT * (bx.abs() * c2 + cx.abs() * b2),
+            ],
+            determinant: 5.0 * UNIT * (l.abs() + r.abs()),
+        };
+        if bound.accepts(&center, &n, det, unscale) {
+            center
+        } else {
+            pred::circumcenter2(a, b, c).unwrap_or(center)
         }
-        let d = 2.0 * det;
-        [
-            a[0] + unscale * ((cy * b2 - by * c2) / d),
-            a[1] + unscale * ((bx * c2 - cx * b2) / d),
-        ]
     }
 }
 
@@ -200,22 +211,74 @@ impl Dim for D3 {
                 u[0] * v[1] - u[1] * v[0],
             ]
         };
+        // The cross products' permanents (each term's magnitude), for the error bounds.
+        let crossed = |u: [f64; 3], v: [f64; 3]| {
+            [
+                (u[1] * v[2]).abs() + (u[2] * v[1]).abs(),
+                (u[2] * v[0]).abs() + (u[0] * v[2]).abs(),
+                (u[0] * v[1]).abs() + (u[1] * v[0]).abs(),
+            ]
+        };
         let (ce, eb, bc) = (cross(c, e), cross(e, b), cross(b, c));
-        let mut det = dot(b, ce);
-        // As in 2D: nearly coplanar points take the exact sign's evaluation.
-        let permanent = b[0].abs() * ((c[1] * e[2]).abs() + (c[2] * e[1]).abs())
-            + b[1].abs() * ((c[2] * e[0]).abs() + (c[0] * e[2]).abs())
-            + b[2].abs() * ((c[0] * e[1]).abs() + (c[1] * e[0]).abs());
-        if det.abs() <= 8e-16 * permanent {
-            det = exact_scaled(pred::orient3d_value(p[0], p[1], p[2], p[3]), s * s * s, det);
-        }
-        let det = 2.0 * det;
+        let (ce_, eb_, bc_) = (crossed(c, e), crossed(e, b), crossed(b, c));
+        let det = dot(b, ce);
         let (b2, c2, e2) = (dot(b, b), dot(c, c), dot(e, e));
-        let mut r = [0.0; 3];
-        for k in 0..3 {
-            r[k] = a[k] + unscale * ((b2 * ce[k] + c2 * eb[k] + e2 * bc[k]) / det);
+        let n: [f64; 3] = std::array::from_fn(|k| b2 * ce[k] + c2 * eb[k] + e2 * bc[k]);
+        let center: [f64; 3] = std::array::from_fn(|k| a[k] + unscale * (n[k] / (2.0 * det)));
+        // γ12 for the numerators and γ8 for the determinant, as in 2D.
+        let bound = Bounds {
+            numerators: std::array::from_fn(|k| {
+                13.0 * UNIT * (b2 * ce_[k] + c2 * eb_[k] + e2 * bc_[k])
+            }),
+            determinant: 9.0 * UNIT * dot(b.map(f64::abs), ce_),
+        };
+        if bound.accepts(&center, &n, det, unscale) {
+            center
+        } else {
+            pred::circumcenter3(p[0], p[1], p[2], p[3]).unwrap_or(center)
         }
-        r
+    }
+}
+
+/// Unit roundoff of `f64`.
+const UNIT: f64 = f64::EPSILON / 2.0;
+
+/// The largest error accepted from a floating-point circumcentre, relative to its largest
+/// coordinate (about 1.4e-14); beyond it the centre is constructed exactly
+/// ([`pred::circumcenter2`], [`pred::circumcenter3`]).
+///
+/// The floating-point formula loses digits where its terms cancel: nearly flat cells,
+/// centres close to the origin next to their size, and cells with points at very different
+/// scales, where the edge vectors from a far point to a tight cluster round to the same
+/// vector (the "centre" was then that far point).
+const CENTER_TOLERANCE: f64 = 1.0 / (1u64 << 46) as f64;
+
+/// Bounds on the rounding errors of the circumcentre formula's numerators and determinant
+/// (in the scaled units of `unit_scale`), from which [`Bounds::accepts`] bounds the centre's.
+struct Bounds<const N: usize> {
+    numerators: [f64; N],
+    determinant: f64,
+}
+
+impl<const N: usize> Bounds<N> {
+    /// Whether `center`, computed as `a + unscale · n / (2 det)`, is certainly within
+    /// [`CENTER_TOLERANCE`] of the exact centre. With `|Δn| ≤ En` and `|Δdet| ≤ Ed`, the
+    /// quotient is off by at most `(|n|·Ed/|det| + En) / (2(|det| − Ed))`, plus a rounding of
+    /// the quotient and of the sum.
+    fn accepts(&self, center: &[f64; N], n: &[f64; N], det: f64, unscale: f64) -> bool {
+        let margin = det.abs() - self.determinant;
+        let size = center.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        // (Also false for NaN and infinite values.)
+        if !(margin > 0.0 && size < f64::INFINITY) {
+            return false;
+        }
+        (0..N).all(|k| {
+            let q = n[k].abs() / (2.0 * det.abs());
+            let dq =
+                (n[k].abs() * self.determinant / det.abs() + self.numerators[k]) / (2.0 * margin);
+            let error = unscale * (dq + UNIT * q) + UNIT * center[k].abs();
+            error <= CENTER_TOLERANCE * size
+        })
     }
 }
 
@@ -231,16 +294,4 @@ fn unit_scale(v: &[f64]) -> (f64, f64) {
     }
     let e = (m.log2().floor() as i32).clamp(-1000, 1000);
     (2f64.powi(-e), 2f64.powi(e))
-}
-
-/// The exact determinant `exact` of the unscaled points in the scaled units (`factor`, the
-/// scale to the power of the dimension), or the floating-point `fallback` where that
-/// overflows or vanishes (an exact zero stays zero).
-fn exact_scaled(exact: f64, factor: f64, fallback: f64) -> f64 {
-    let scaled = exact * factor;
-    if exact == 0.0 || (scaled.is_finite() && scaled != 0.0) {
-        scaled
-    } else {
-        fallback
-    }
 }

@@ -186,27 +186,28 @@ pub struct VoronoiFace3 {
 
 impl Triangulation<D2> {
     /// The Voronoi region of every vertex, clipped to the box `[lo, hi]`.
+    ///
+    /// A region is the polygon of the circumcentres around its point; the region of a point on
+    /// the hull is unbounded, and its polygon starts and ends with *points at infinity* in the
+    /// directions of its two rays (the outward normals of the point's hull edges). The polygons
+    /// are clipped in homogeneous coordinates, where a ray's intersection with a side of the box
+    /// is computed from its circumcentre and direction: no ray is truncated, so no finite
+    /// stand-in for infinity can fall inside the box or fold the polygon over. The regions so
+    /// tile the box (up to the rounding of the constructions) and each contains its point.
+    /// Computed in the triangulation's internal units (a power of two from the caller's, so
+    /// the box's sides come back exactly), where nothing overflows.
     pub fn voronoi_cells(&self, lo: [f64; 2], hi: [f64; 2]) -> Vec<VoronoiCell2> {
-        // Far enough that the truncation of unbounded regions lies outside the box.
-        let reach = {
-            let mut r = (hi[0] - lo[0]).abs() + (hi[1] - lo[1]).abs();
-            for c in self.cells() {
-                let p = circumcenter(self, c);
-                r = r.max((p[0] - lo[0]).abs() + (p[1] - lo[1]).abs());
-            }
-            // In the box's own units (a ray of length 1 past a box 1e-300 wide leaves nothing
-            // of the box's digits where it is clipped), and below the largest float (a ray's
-            // end must stay finite to be clipped).
-            if r > 0.0 {
-                (4.0 * r).min(f64::MAX / 16.0)
-            } else {
-                1.0
-            }
-        };
+        // A box beyond the range of f64 in internal units is cut down to a finite one.
+        let limit = f64::MAX / 16.0;
+        let inside = |x: f64| (x * self.scale).clamp(-limit, limit);
+        let (lo, hi) = (lo.map(inside), hi.map(inside));
         (0..self.num_vertices())
             .map(|v| {
                 let v = VertexId(v as u32);
-                let polygon = clip_to_box(self.voronoi_polygon(v, reach), lo, hi);
+                let polygon = clip_to_box(self.voronoi_polygon(v), lo, hi)
+                    .into_iter()
+                    .map(|p| p.map(|x| x * self.unscale))
+                    .collect();
                 VoronoiCell2 {
                     point: self.input_index(v),
                     polygon,
@@ -243,91 +244,157 @@ impl Triangulation<D2> {
         ring
     }
 
-    fn voronoi_polygon(&self, v: VertexId, reach: f64) -> Vec<[f64; 2]> {
+    /// The Voronoi region of `v` counter-clockwise, in internal units: the circumcentres of
+    /// its cells, between the directions of its two rays if `v` is on the hull.
+    fn voronoi_polygon(&self, v: VertexId) -> Vec<Corner> {
         let ring = self.ring_around(v);
         let finite: Vec<CellId> = ring
             .iter()
             .copied()
             .filter(|&c| !self.is_ghost(c))
             .collect();
-        let mut poly: Vec<[f64; 2]> = finite.iter().map(|&c| circumcenter(self, c)).collect();
+        let mut poly: Vec<Corner> = finite
+            .iter()
+            .map(|&c| Corner::At(self.internal_circumcenter(c)))
+            .collect();
         if finite.len() == ring.len() {
             return poly;
         }
-        // Unbounded region: rays along the outward normals of v's two hull edges.
-        let p = self.vertex(v);
-        let ray = |c: CellId, before: bool| -> [f64; 2] {
+        // Unbounded: the ray of a hull edge `v w` leaves the circumcentre of the edge's cell
+        // along the edge's outward normal. The interior is left of `v → w` for the first cell's
+        // edge (to its next vertex) and of `w → v` for the last's (from its previous one).
+        let p = self.point(v);
+        let normal = |c: CellId, first: bool| -> [f64; 2] {
             let cell = self.cell(c);
-            let i = cell.iter().position(|&u| u == v).expect("v in cell");
-            // The hull edge through v: to the next vertex (first cell) or the previous (last).
-            let w = if before {
-                cell[(i + 1) % 3]
-            } else {
-                cell[(i + 2) % 3]
-            };
-            let q = self.vertex(w);
-            let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
-            // The interior is to the left of v→w for the first cell's edge, to the right of
-            // w→v... so the outward normal is (dy, −dx) for v→w and (−dy, dx) for the other.
-            let n = if before { [dy, -dx] } else { [-dy, dx] };
-            // (`hypot`: the squares of coordinates near 1e±200 overflow or vanish.)
+            let i = cell.iter().position(|&u| u == v).expect("v in its cell");
+            let w = self.point(cell[if first { (i + 1) % 3 } else { (i + 2) % 3 }]);
+            let (dx, dy) = (w[0] - p[0], w[1] - p[1]);
+            let n = if first { [dy, -dx] } else { [-dy, dx] };
             let len = n[0].hypot(n[1]);
-            let o = circumcenter(self, c);
-            [o[0] + reach * (n[0] / len), o[1] + reach * (n[1] / len)]
+            [n[0] / len, n[1] / len]
         };
-        let first = ray(finite[0], true);
-        let last = ray(
-            *finite.last().expect("a hull vertex has a finite cell"),
-            false,
+        let last = *finite.last().expect("a hull vertex has a finite cell");
+        let (first, last) = (normal(finite[0], true), normal(last, false));
+        // The region turns counter-clockwise from the last ray to the first by less than a
+        // half-turn, but a hull angle below the rounding of the directions (a point far from
+        // two close ones) can make the computed turn a half-turn or more, and two directions
+        // alone do not say which way. A third, between them, does: their sum for a narrow turn,
+        // their difference turned clockwise for a wide one (each well defined where used).
+        let (sum, diff) = (
+            [first[0] + last[0], first[1] + last[1]],
+            [first[0] - last[0], first[1] - last[1]],
         );
-        let mid_dir = [
-            first[0] + last[0] - 2.0 * p[0],
-            first[1] + last[1] - 2.0 * p[1],
-        ];
-        let mid_len = mid_dir[0].hypot(mid_dir[1]).max(f64::MIN_POSITIVE);
-        let mid = [
-            p[0] + 2.0 * reach * (mid_dir[0] / mid_len),
-            p[1] + 2.0 * reach * (mid_dir[1] / mid_len),
-        ];
-        poly.insert(0, first);
-        poly.push(last);
-        poly.push(mid);
+        let middle = if sum[0].hypot(sum[1]) >= diff[0].hypot(diff[1]) {
+            sum
+        } else {
+            [diff[1], -diff[0]]
+        };
+        poly.insert(0, Corner::Toward(first));
+        poly.push(Corner::Toward(last));
+        poly.push(Corner::Toward(middle));
         poly
+    }
+
+    /// Circumcentre of the finite cell `c` in internal units.
+    fn internal_circumcenter(&self, c: CellId) -> [f64; 2] {
+        let cell = self.cell(c);
+        D2::circumcenter(&[
+            self.point(cell[0]),
+            self.point(cell[1]),
+            self.point(cell[2]),
+        ])
     }
 }
 
-/// Sutherland–Hodgman clipping of a convex polygon to an axis-aligned box.
-fn clip_to_box(mut poly: Vec<[f64; 2]>, lo: [f64; 2], hi: [f64; 2]) -> Vec<[f64; 2]> {
+/// A corner of a 2D Voronoi region before clipping: a point, or the point at infinity in a
+/// direction (where an unbounded region's ray ends).
+#[derive(Clone, Copy, Debug)]
+enum Corner {
+    At([f64; 2]),
+    Toward([f64; 2]),
+}
+
+/// Sutherland–Hodgman clipping of a convex polygon, possibly with points at infinity, to an
+/// axis-aligned box; the result is the finite polygon.
+///
+/// The polygon lives in the projective plane: an edge between two points at infinity is the
+/// arc of directions between them (less than a half-turn: see `voronoi_polygon`), and
+/// the box's bounded sides cut away every point at infinity. A corner exactly on a side is
+/// kept and makes no crossing, so no corner is repeated.
+fn clip_to_box(mut poly: Vec<Corner>, lo: [f64; 2], hi: [f64; 2]) -> Vec<[f64; 2]> {
     for axis in 0..2 {
         for (bound, keep_below) in [(lo[axis], false), (hi[axis], true)] {
             if poly.is_empty() {
-                return poly;
+                break;
             }
-            let inside = |p: &[f64; 2]| {
+            // Signed distance past the side: positive outside. A point at infinity is outside
+            // when its direction points out through the side.
+            let past = |c: &Corner| {
+                let d = match c {
+                    Corner::At(p) => p[axis] - bound,
+                    Corner::Toward(u) => u[axis],
+                };
                 if keep_below {
-                    p[axis] <= bound
+                    d
                 } else {
-                    p[axis] >= bound
+                    -d
                 }
             };
             let mut out = Vec::with_capacity(poly.len() + 2);
             for k in 0..poly.len() {
-                let a = poly[k];
-                let b = poly[(k + 1) % poly.len()];
-                if inside(&a) {
+                let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+                let (pa, pb) = (past(&a), past(&b));
+                if pa <= 0.0 {
                     out.push(a);
                 }
-                if inside(&a) != inside(&b) {
-                    let t = (bound - a[axis]) / (b[axis] - a[axis]);
-                    let mut x = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
-                    x[axis] = bound;
-                    out.push(x);
+                if (pa < 0.0 && pb > 0.0) || (pa > 0.0 && pb < 0.0) {
+                    out.push(crossing(a, b, axis, bound));
                 }
             }
             poly = out;
         }
     }
-    poly
+    poly.into_iter()
+        .filter_map(|c| match c {
+            Corner::At(p) => Some(p),
+            Corner::Toward(_) => None,
+        })
+        .collect()
+}
+
+/// Where the edge `a b` crosses the line `x[axis] = bound` (its ends are strictly on either
+/// side).
+fn crossing(a: Corner, b: Corner, axis: usize, bound: f64) -> Corner {
+    let other = 1 - axis;
+    match (a, b) {
+        (Corner::At(p), Corner::At(q)) => {
+            // From the lexicographically smaller end, so that the two regions sharing the edge
+            // (which run it in opposite directions) get the same point.
+            let (p, q) = if (p[0], p[1]) <= (q[0], q[1]) {
+                (p, q)
+            } else {
+                (q, p)
+            };
+            let t = (bound - p[axis]) / (q[axis] - p[axis]);
+            let mut x = [0.0; 2];
+            x[axis] = bound;
+            x[other] = p[other] + t * (q[other] - p[other]);
+            Corner::At(x)
+        }
+        (Corner::At(p), Corner::Toward(u)) | (Corner::Toward(u), Corner::At(p)) => {
+            // The ray from `p` along `u`.
+            let mut x = [0.0; 2];
+            x[axis] = bound;
+            x[other] = p[other] + (bound - p[axis]) * (u[other] / u[axis]);
+            Corner::At(x)
+        }
+        (Corner::Toward(u), Corner::Toward(w)) => {
+            // The direction between the two that is parallel to the side.
+            let mut x = [0.0; 2];
+            x[other] = w[axis].abs() * u[other] + u[axis].abs() * w[other];
+            Corner::Toward(x)
+        }
+    }
 }
 
 impl Triangulation<D3> {

@@ -75,6 +75,240 @@ fn voronoi_regions_tile_the_box() {
     );
 }
 
+/// Checks that the clipped 2D regions of `pts` tile `[lo, hi]`: each is counter-clockwise
+/// and strictly contains its point (exact orientations of its corners), and their areas add
+/// up to the box's (relative `1e-12`).
+fn assert_regions_tile(pts: &[[f64; 2]], lo: [f64; 2], hi: [f64; 2]) {
+    let t = Triangulation2::new(pts).unwrap();
+    let cells = t.voronoi_cells(lo, hi);
+    let mut total = 0.0;
+    for cell in &cells {
+        let poly = &cell.polygon;
+        let n = poly.len();
+        assert!(n >= 3, "{pts:?}: point {} has no region", cell.point);
+        let site = pts[cell.point];
+        let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        for k in 0..n {
+            let (p, q) = (poly[k], poly[(k + 1) % n]);
+            // (Edges of rounding length: co-circular points' circumcentres.)
+            let tiny = (p[0] - q[0]).abs().max((p[1] - q[1]).abs()) <= 1e-12 * size;
+            assert!(
+                tiny || delmesh_predicates::orient2d(p, q, site)
+                    == delmesh_predicates::Sign::Positive,
+                "{pts:?}: region of {} does not contain it: {poly:?}",
+                cell.point
+            );
+        }
+        total += (0..n)
+            .map(|k| {
+                let (p, q) = (poly[k], poly[(k + 1) % n]);
+                (p[0] - lo[0]) * (q[1] - lo[1]) - (p[1] - lo[1]) * (q[0] - lo[0])
+            })
+            .sum::<f64>()
+            / 2.0;
+    }
+    let area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+    assert!(
+        (total - area).abs() <= 1e-12 * area,
+        "{pts:?}: regions cover {total}, the box {area}"
+    );
+}
+
+/// The CLI's box: the bounding box enlarged by 10% on each side.
+fn enlarged_box(pts: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in pts {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    for k in 0..2 {
+        let m = 0.1 * (hi[k] - lo[k]);
+        lo[k] -= m;
+        hi[k] += m;
+    }
+    (lo, hi)
+}
+
+#[test]
+fn unbounded_regions_with_far_circumcentres_tile_the_box() {
+    // An obtuse triangle: its circumcentre (−41.2, 73.5) is far left of the box, and the region
+    // of (23, 25) is a wedge of nearly a half-turn from it. The ray truncation used to close
+    // that wedge through a point outside it (a self-intersecting polygon of area −132.7).
+    let pts = [[23.0, 25.0], [39.0, 80.0], [39.0, 67.0]];
+    let (lo, hi) = enlarged_box(&pts);
+    assert_regions_tile(&pts, lo, hi);
+    // Two points 5e-13 apart next to one 4e4 away: the circumcentre is 2.5e4 off the box's
+    // side, the two clustered points' regions are half-planes.
+    let pts = [
+        [7e-13, 3.0000000000000003e-13],
+        [2e-13, 3.0000000000000003e-13],
+        [22000.0, 38000.0],
+    ];
+    let (lo, hi) = enlarged_box(&pts);
+    assert_regions_tile(&pts, lo, hi);
+    // Random small integer sets (about 1 in 150 failed).
+    let mut rng = <rand::rngs::StdRng as rand::SeedableRng>::seed_from_u64(31);
+    let mut tested = 0;
+    for _ in 0..3000 {
+        let n = rand::Rng::gen_range(&mut rng, 3..=8);
+        let pts: Vec<[f64; 2]> = (0..n)
+            .map(|_| {
+                [
+                    f64::from(rand::Rng::gen_range(&mut rng, 0..=100)),
+                    f64::from(rand::Rng::gen_range(&mut rng, 0..=100)),
+                ]
+            })
+            .collect();
+        let mut distinct = pts.clone();
+        distinct.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        distinct.dedup();
+        if Triangulation2::new(&distinct).is_err() {
+            continue; // collinear
+        }
+        let (lo, hi) = enlarged_box(&distinct);
+        assert_regions_tile(&distinct, lo, hi);
+        tested += 1;
+    }
+    assert!(tested > 2900);
+}
+
+/// Asserts that every Voronoi vertex of `vd` is equidistant from its forming points within
+/// `1e-9` of the distance, and that no input point is closer to it than they are (by more).
+fn assert_centres_equidistant<D: Dim>(vd: &VoronoiDiagram<D>, pts: &[D::Point]) {
+    let dist = |p: &D::Point, q: &D::Point| {
+        p.as_ref()
+            .iter()
+            .zip(q.as_ref())
+            .map(|(x, y)| (x - y).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    for i in 0..vd.len() {
+        let o = vd.circumcenter(i);
+        let d: Vec<f64> = vd
+            .forming_points(i)
+            .iter()
+            .map(|&k| dist(&o, &pts[k as usize]))
+            .collect();
+        let nearest = pts
+            .iter()
+            .map(|p| dist(&o, p))
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            d.iter().all(|r| (r - d[0]).abs() <= 1e-9 * d[0]) && nearest >= d[0] * (1.0 - 1e-9),
+            "vertex {i} {o:?} of {:?}: distances {d:?}, nearest point {nearest}",
+            vd.forming_points(i)
+        );
+    }
+}
+
+#[test]
+fn circumcentres_of_cells_spanning_many_scales_are_accurate() {
+    // Three points within 1e-12 and two 1e5–1e6 away. From a far point the edge vectors to the
+    // cluster round to the same vector, and the floating-point centre was that far point. The
+    // exact centres of the tetrahedra (computed with Python's fractions, correctly rounded):
+    let pts = [
+        [
+            5.250011572292198e-13,
+            4.32224626990782e-13,
+            9.042839633242201e-13,
+        ],
+        [
+            3.2069038530630267e-13,
+            5.468077433143392e-14,
+            7.255828799024899e-13,
+        ],
+        [
+            9.001377704234459e-13,
+            7.320068357623053e-13,
+            5.975216204070308e-13,
+        ],
+        [88385.4015923462, 363581.9555532492, 374484.9564899955],
+        [605541.7884953943, 970406.8915713335, 976457.2905077733],
+    ];
+    let exact: [([u32; 4], [f64; 3]); 5] = [
+        (
+            [0, 1, 2, 3],
+            [-11368131.532341419, 8705387.200640356, -5394671.791956129],
+        ),
+        (
+            [0, 1, 2, 4],
+            [3471170.370679039, -2658122.139965033, 1647220.990582546],
+        ),
+        (
+            [0, 1, 3, 4],
+            [2163157.7579381578, -2046533.6971039306, 1850575.1557530416],
+        ),
+        (
+            [0, 2, 3, 4],
+            [2124519.312724006, -1398934.8451397014, 1230950.312371019],
+        ),
+        (
+            [1, 2, 3, 4],
+            [2134332.9753310033, -1563416.5317767262, 1388326.964618863],
+        ),
+    ];
+    // Within 1.5e-14 of the centre's largest coordinate.
+    let close = |c: &[f64], e: &[f64]| {
+        let size = e.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        c.iter()
+            .zip(e)
+            .all(|(x, y)| (x - y).abs() <= 1.5e-14 * size)
+    };
+    let t = Triangulation3::new(&pts).unwrap();
+    let vd = VoronoiDiagram::new(&t);
+    assert!(vd.len() >= 2);
+    for i in 0..vd.len() {
+        let (_, e) = exact
+            .iter()
+            .find(|(f, _)| f.as_slice() == vd.forming_points(i))
+            .expect("a tetrahedron of the five points");
+        assert!(
+            close(&vd.circumcenter(i), e),
+            "{:?}: {:?}",
+            vd.forming_points(i),
+            vd.circumcenter(i)
+        );
+    }
+    // The bounded region of point 0 (inside the hull) has these centres as its corners.
+    let shared = t.voronoi_faces_shared();
+    assert!(!shared.is_empty());
+    for v in &shared.vertices {
+        assert!(exact.iter().any(|(_, e)| close(v, e)), "{v:?}");
+    }
+    // 2D: two points 5e-13 apart and one at (22000, 38000); exact centre (4.5e-13, 25368.42…).
+    let pts = [
+        [7e-13, 3.0000000000000003e-13],
+        [2e-13, 3.0000000000000003e-13],
+        [22000.0, 38000.0],
+    ];
+    let t = Triangulation2::new(&pts).unwrap();
+    let c = VoronoiDiagram::new(&t).circumcenter(0);
+    assert!(close(&c, &[4.5e-13, 25368.42105263158]), "{c:?}");
+    // Clusters in [0, 1e-12] next to points in [0, 1e6]: 500 + 500 in 2D, 50 + 250 in 3D.
+    let mut rng = <rand::rngs::StdRng as rand::SeedableRng>::seed_from_u64(32);
+    let mut coordinate =
+        |k: usize| rand::Rng::gen::<f64>(&mut rng) * if k % 2 == 0 { 1e-12 } else { 1e6 };
+    let pts: Vec<[f64; 2]> = (0..1000)
+        .map(|k| [coordinate(k / 500), coordinate(k / 500)])
+        .collect();
+    let t = Triangulation2::new(&pts).unwrap();
+    assert_centres_equidistant(&VoronoiDiagram::new(&t), &pts);
+    let (lo, hi) = enlarged_box(&pts);
+    assert_regions_tile(&pts, lo, hi);
+    let pts: Vec<[f64; 3]> = (0..300)
+        .map(|k| {
+            let s = usize::from(k >= 50);
+            [coordinate(s), coordinate(s), coordinate(s)]
+        })
+        .collect();
+    let t = Triangulation3::new(&pts).unwrap();
+    assert_centres_equidistant(&VoronoiDiagram::new(&t), &pts);
+}
+
 #[test]
 fn bounded_3d_regions_have_equidistant_faces() {
     let pts = uniform3(400, 23);

@@ -65,6 +65,28 @@ impl Big {
         }
     }
 
+    /// `(m, e)` with `m · 2^e` the integer rounded to the nearest `f64` (`m` carries the sign;
+    /// `(0, 0)` for zero): its top 64 bits, with any set bit below them folded into the lowest
+    /// one (a sticky bit), so that converting them rounds as the whole number would.
+    pub(crate) fn rounded(&self) -> (f64, i32) {
+        if self.len == 0 {
+            return (0.0, 0);
+        }
+        let top = self.mag[self.len - 1];
+        let bits = 64 * (self.len as u32 - 1) + (64 - top.leading_zeros());
+        let shift = bits.saturating_sub(64);
+        let (q, r) = ((shift / 64) as usize, shift % 64);
+        let mut m = self.mag[q] >> r;
+        if r != 0 && q + 1 < self.len {
+            m |= self.mag[q + 1] << (64 - r);
+        }
+        let dropped =
+            (r != 0 && self.mag[q] << (64 - r) != 0) || self.mag[..q].iter().any(|&x| x != 0);
+        m |= u64::from(dropped);
+        let m = m as f64;
+        (if self.neg { -m } else { m }, shift as i32)
+    }
+
     fn used(&self) -> &[u64] {
         &self.mag[..self.len]
     }
@@ -211,6 +233,21 @@ mod tests {
                 assert_eq!(big.used(), expect.used());
             }
         }
+    }
+
+    #[test]
+    fn conversion_rounds_to_nearest() {
+        // 2^200 + 2^147 + 1: the bit just below the 53 kept ones is set, and so is a far lower
+        // one, so it rounds up (without the sticky bit it would be a tie, rounded to even).
+        let x =
+            Big::from_shifted(1, 200, false) + Big::from_shifted(1, 147, false) + Big::from_i128(1);
+        let (m, e) = x.rounded();
+        assert_eq!(m * 2f64.powi(e), 2f64.powi(200) + 2f64.powi(148));
+        let (m, e) = (-Big::from_i128(-12345)).rounded();
+        assert_eq!((m, e), (12345.0, 0));
+        let (m, e) = Big::from_i128(-(1i128 << 100) - 3).rounded();
+        assert_eq!(m * 2f64.powi(e), -(2f64.powi(100)));
+        assert_eq!(Big::ZERO.rounded(), (0.0, 0));
     }
 
     #[test]

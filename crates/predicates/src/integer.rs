@@ -61,7 +61,7 @@ const HIDDEN: u64 = 1 << 52;
 /// `2^(b+1)` twice in orient2d (7 + 7): all within [`crate::bigint::CAP`] = 32 limbs, and every
 /// partial sum is below the determinant's bound (`< 2^2007` for insphere). Coordinates in
 /// [`crate::COORDINATE_RANGE`] have `b ≤ 202 + 194 + 1 = 397`.
-const BIG_B: i32 = 400;
+pub(crate) const BIG_B: i32 = 400;
 
 /// `|v| = mant · 2^exp` with `mant < 2^53` (`mant = 0` for `±0`), and the sign bit.
 #[inline(always)]
@@ -80,7 +80,7 @@ fn split(v: f64) -> (u64, i32, bool) {
 /// The exponent `lo` of the lowest set bit over all non-zero `x`, and `hi` with every
 /// `|x| < 2^hi`; `(i32::MAX, i32::MIN)` if all are zero, `None` if any is infinite or NaN.
 #[inline(always)]
-fn exponents(x: &[f64]) -> Option<(i32, i32)> {
+pub(crate) fn exponents(x: &[f64]) -> Option<(i32, i32)> {
     let (mut lo, mut hi) = (i32::MAX, i32::MIN);
     for &v in x {
         if !v.is_finite() {
@@ -114,7 +114,7 @@ fn to_i128(v: f64, lo: i32) -> i128 {
 
 /// `x / 2^lo` as a [`Big`], under the same condition as [`to_i128`] but any magnitude that
 /// fits the capacity.
-fn to_big(v: f64, lo: i32) -> Big {
+pub(crate) fn to_big(v: f64, lo: i32) -> Big {
     let (mant, exp, neg) = split(v);
     if mant == 0 {
         return Big::from_i128(0);

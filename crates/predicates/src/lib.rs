@@ -17,6 +17,10 @@
 //! Edelsbrunner & Mücke, "Simulation of simplicity", 1990, and Devillers & Teillaud,
 //! "Perturbations for Delaunay and weighted Delaunay 3D triangulations", 2011).
 //!
+//! Two constructions use the same integer arithmetic: [`circumcenter2`] and [`circumcenter3`]
+//! compute a circumcentre exactly and round it, for the cells where delmesh's floating-point
+//! circumcentre cannot guarantee its accuracy.
+//!
 //! # Conventions
 //! - `orient2d(a, b, c)` is [`Sign::Positive`] when `a, b, c` turn counter-clockwise.
 //! - `orient3d(a, b, c, d)` is [`Sign::Positive`] when the signed volume
@@ -33,10 +37,12 @@
 #![forbid(unsafe_code)]
 
 mod bigint;
+mod construct;
 mod exact;
 mod integer;
 mod sos;
 
+pub use construct::{circumcenter2, circumcenter3};
 pub use exact::{incircle, insphere, orient2d, orient2d_value, orient3d, orient3d_value};
 pub use sos::{
     incircle_lex, incircle_sos, incircle_tiebreak, insphere_lex, insphere_sos, insphere_tiebreak,
