@@ -271,27 +271,28 @@ fn mesh_plc_as_given(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Err
     })
 }
 
-/// `spacing` (one per point of `a`) with each value that is not positive and finite (the
-/// `--points` of a run without automatic points, which no stage gave a spacing) replaced by
-/// the mean length of the point's edges, so that a `.vtu` output always carries the whole
-/// field and can serve as the next run's background mesh (as in 3D).
-fn fill_spacing(mut spacing: Vec<f64>, a: &MeshArrays) -> Vec<f64> {
+/// `spacing` (one per point) with each value that is not positive and finite (points no stage
+/// gave one: 2D `--points` of a run without automatic points, 3D points the last recovery or
+/// restoration added) replaced by the mean length of the point's `edges` (`length(u, v)`), so
+/// that a `.vtu` output always carries the whole field and can serve as the next run's
+/// background mesh. 2D and 3D alike.
+pub(crate) fn fill_spacing(
+    mut spacing: Vec<f64>,
+    edges: impl Iterator<Item = (usize, usize)>,
+    length: impl Fn(usize, usize) -> f64,
+) -> Vec<f64> {
     let missing = |h: f64| !(h > 0.0 && h.is_finite());
     if !spacing.iter().any(|&h| missing(h)) {
         return spacing;
     }
     let mut sum = vec![0.0f64; spacing.len()];
     let mut count = vec![0u32; spacing.len()];
-    for t in &a.triangles {
-        for k in 0..3 {
-            let (u, v) = (t[k] as usize, t[(k + 1) % 3] as usize);
-            if missing(spacing[u]) || missing(spacing[v]) {
-                let (p, q) = (a.coords[u], a.coords[v]);
-                let d = (p[0] - q[0]).hypot(p[1] - q[1]);
-                for w in [u, v] {
-                    sum[w] += d;
-                    count[w] += 1;
-                }
+    for (u, v) in edges {
+        if missing(spacing[u]) || missing(spacing[v]) {
+            let d = length(u, v);
+            for w in [u, v] {
+                sum[w] += d;
+                count[w] += 1;
             }
         }
     }
@@ -440,7 +441,14 @@ impl MeshRun2 {
                             .unwrap_or(f64::NAN)
                     })
                     .collect();
-                let spacing = fill_spacing(spacing, a);
+                let edges = a
+                    .triangles
+                    .iter()
+                    .flat_map(|t| (0..3).map(move |k| (t[k] as usize, t[(k + 1) % 3] as usize)));
+                let spacing = fill_spacing(spacing, edges, |u, v| {
+                    let (p, q) = (a.coords[u], a.coords[v]);
+                    (p[0] - q[0]).hypot(p[1] - q[1])
+                });
                 let quality = min_angles(a);
                 delmesh_io::write_vtu(
                     out,

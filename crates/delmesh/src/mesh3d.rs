@@ -1359,7 +1359,14 @@ impl MeshRun3 {
                             .unwrap_or(f64::NAN)
                     })
                     .collect();
-                let spacing = fill_spacing(spacing, a);
+                const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
+                let edges = a
+                    .tets
+                    .iter()
+                    .flat_map(|t| EDGES.map(|(i, j)| (t[i] as usize, t[j] as usize)));
+                let spacing = crate::mesh2d::fill_spacing(spacing, edges, |u, v| {
+                    crate::geometry3::dist(a.coords[u], a.coords[v])
+                });
                 // (A point in no tetrahedron would have none: the field is left out then.)
                 let point_data: Vec<(&str, &[f64])> = if spacing.iter().all(|h| h.is_finite()) {
                     vec![("spacing", &spacing)]
@@ -1589,37 +1596,6 @@ fn read_field3(path: &Path, field: &str) -> Result<FieldData3, Error> {
         })
         .collect();
     Ok((points, tets, values.clone()))
-}
-
-/// `spacing` (one per point of `a`) with each value that is not positive and finite (points
-/// the last recovery or restoration added, which no stage gave a spacing) replaced by the mean
-/// length of the point's edges, so that a `.vtu` output always carries the whole field and can
-/// serve as the next run's background mesh.
-fn fill_spacing(mut spacing: Vec<f64>, a: &MeshArrays3) -> Vec<f64> {
-    let missing = |h: f64| !(h > 0.0 && h.is_finite());
-    if !spacing.iter().any(|&h| missing(h)) {
-        return spacing;
-    }
-    let mut sum = vec![0.0f64; spacing.len()];
-    let mut count = vec![0u32; spacing.len()];
-    for t in &a.tets {
-        for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
-            let (u, v) = (t[i] as usize, t[j] as usize);
-            if missing(spacing[u]) || missing(spacing[v]) {
-                let d = crate::geometry3::dist(a.coords[u], a.coords[v]);
-                for w in [u, v] {
-                    sum[w] += d;
-                    count[w] += 1;
-                }
-            }
-        }
-    }
-    for (k, h) in spacing.iter_mut().enumerate() {
-        if missing(*h) && count[k] > 0 {
-            *h = sum[k] / f64::from(count[k]);
-        }
-    }
-    spacing
 }
 
 /// The most rounds of background splits (each halves a triangle at most: 8 rounds take a
