@@ -25,15 +25,17 @@ use std::time::Instant;
 
 use delmesh_boundary_recovery::{
     BoundaryRecovery, Mesh2, MeshArrays, Plc2, RecoveryHistory, RecoveryMethod, RegionSeed,
-    Segment, SegmentSplits,
+    Segment, SegmentSplits, SmoothingStars,
 };
+use delmesh_delaunay_core::VertexId;
 use delmesh_io::PolyFile;
 use delmesh_point_gen::{
     Adaptation, AreaLimits, BackgroundMesh2, GenerationReport, PointGeneration, QualityRefinement,
     Source, SpacingError, SpacingField,
 };
 use delmesh_predicates::{orient2d, Sign};
-use delmesh_smoothing::{QualityReport, SmoothStats, Smoother};
+use delmesh_smoothing::{QualityReport, SmoothStats, Smoother, Stars};
+use rayon::prelude::*;
 
 use crate::sources::check_sources2;
 use crate::{units, Error};
@@ -216,18 +218,23 @@ fn mesh_plc_as_given(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Err
     let mut flips = 0;
     let smoothing = match &options.smoothing {
         Some(smoother) => {
-            // Only what smoothing reads; the coordinates are compared with the triangulation's
-            // (which they were read from) to find the moves.
-            let arrays = mesh.smoothing_arrays();
-            let mut coords = arrays.coords;
-            let stats = smoother.smooth(&mut coords, &arrays.triangles, &arrays.on_boundary)?;
+            // Only what smoothing reads: the vertices and their stars, in the triangulation's
+            // numbering; the coordinates are compared with the triangulation's (which they
+            // were read from) to find the moves.
+            let SmoothingStars {
+                mut coords,
+                start,
+                ring,
+            } = mesh.smoothing_stars();
+            let stars = Stars::from_rings(start, ring)
+                .map_err(|e| Error::Internal(format!("the mesh's stars: {e}")))?;
+            let stats = smoother.smooth_stars(&mut coords, &stars)?;
             let tri = mesh.cdt.triangulation();
-            let moves: Vec<_> = arrays
-                .vertex
-                .iter()
-                .zip(&coords)
-                .filter(|&(&v, new)| *new != tri.vertex(v))
-                .map(|(&v, &new)| (v, new))
+            let moves: Vec<_> = (0..coords.len() as u32)
+                .into_par_iter()
+                .map(VertexId)
+                .filter(|&v| coords[v.index()] != tri.vertex(v))
+                .map(|v| (v, coords[v.index()]))
                 .collect();
             // The smoother keeps every element positive, so the triangulation accepts the moves.
             mesh.cdt

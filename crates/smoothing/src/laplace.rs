@@ -28,6 +28,7 @@
 //! A point whose triangles do not close around it (on the border of the triangles, or where
 //! two fans touch) has no well-defined star to keep valid: it is boundary and stays fixed.
 
+use crate::stars::Stars;
 use delmesh_predicates::{orient2d, Sign};
 use rayon::prelude::*;
 use std::fmt;
@@ -66,13 +67,6 @@ const CHUNK: usize = 1024;
 /// Free points per tile: a tile's points, halo and rings (under 1 MB) fit in a core's L2 cache,
 /// and bigger tiles leave fewer seam points (slower: their neighbours are not in one buffer).
 const TILE: usize = 16384;
-
-/// Points per parallel task when ordering the neighbours.
-const RING_CHUNK: usize = 1 << 14;
-
-/// Ranges of points whose corners are gathered in parallel (a fixed number, so that the work
-/// does not depend on the number of threads; each range scans all the triangles).
-const FILL_RANGES: usize = 2;
 
 /// Bad smoothing options or input.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -287,17 +281,88 @@ impl Smoother {
                 format!("triangle {k} is not counter-clockwise")
             }));
         }
-        let layout = Layout::build(points, triangles, fixed);
+        // The stars in Z-order numbering, so that building them and the tiles reads memory in
+        // order whatever the caller's numbering.
+        let z = z_order(points);
+        let mut rank = vec![0u32; n];
+        for (i, &v) in z.iter().enumerate() {
+            rank[v as usize] = i as u32;
+        }
+        let stars = Stars::from_triangles(triangles, fixed, &rank);
+        let identity: Vec<u32> = (0..n as u32).collect();
+        let mut layout = Layout::new(&stars, &identity);
+        for v in &mut layout.original {
+            *v = z[*v as usize];
+        }
+        Ok(self.run(points, &layout))
+    }
+
+    /// Smooths `points` in place, each free point moving within its star in `stars` (see
+    /// [`Stars::from_rings`]); points with an empty ring stay fixed. The result is that of
+    /// [`Smoother::smooth`] on the triangles of the stars, with the boundary fixed, and costs
+    /// less when the caller's triangulation gives its stars directly (by walking its own
+    /// adjacency) than building them from a triangle list.
+    ///
+    /// # Errors
+    /// A number of stars other than of points, a non-finite coordinate, or a star triangle
+    /// (a point and two consecutive neighbours) that is not positively oriented.
+    pub fn smooth_stars(
+        &self,
+        points: &mut [[f64; 2]],
+        stars: &Stars,
+    ) -> Result<SmoothStats, SmoothError> {
+        let n = points.len();
+        if stars.len() != n {
+            return Err(SmoothError::BadInput(format!(
+                "{} points but {} stars",
+                n,
+                stars.len()
+            )));
+        }
+        if let Some(i) = points
+            .iter()
+            .position(|p| !p[0].is_finite() || !p[1].is_finite())
+        {
+            return Err(SmoothError::BadInput(format!("point {i} is not finite")));
+        }
+        let p: &[[f64; 2]] = points;
+        let inverted = (0..n)
+            .into_par_iter()
+            .with_min_len(1 << 10)
+            .find_first(|&i| {
+                let ring = stars.ring(i);
+                let mut a = match ring.last() {
+                    Some(&a) => p[a as usize],
+                    None => return false,
+                };
+                ring.iter().any(|&b| {
+                    let b = p[b as usize];
+                    let positive = orient2d(p[i], a, b) == Sign::Positive;
+                    a = b;
+                    !positive
+                })
+            });
+        if let Some(i) = inverted {
+            return Err(SmoothError::BadInput(format!(
+                "a triangle of the star of point {i} is not counter-clockwise"
+            )));
+        }
+        let layout = Layout::new(stars, &z_order(points));
+        Ok(self.run(points, &layout))
+    }
+
+    /// The passes on a copy of `points` laid out by `layout`, copied back.
+    fn run(&self, points: &mut [[f64; 2]], layout: &Layout) -> SmoothStats {
         let mut local: Vec<[f64; 2]> = layout
             .original
-            .iter()
+            .par_iter()
             .map(|&v| points[v as usize])
             .collect();
-        let stats = self.relax(&mut local, &layout);
+        let stats = self.relax(&mut local, layout);
         for (p, &v) in local.iter().zip(&layout.original) {
             points[v as usize] = *p;
         }
-        Ok(stats)
+        stats
     }
 
     /// The smoothing passes proper, on the laid-out copy. Each pass smooths the tiles' inner
@@ -641,97 +706,18 @@ fn star_sharpness(points: &[[f64; 2]], ring: &[u32], x: [f64; 2]) -> f64 {
 }
 
 impl Layout {
-    /// Orders each free point's neighbours around it, colours the free points (greedily, in
-    /// Z-order) and numbers them colour by colour. Everything is done in Z-order numbering, so
-    /// that the lookups of neighbours stay near in memory.
-    fn build(points: &[[f64; 2]], triangles: &[[u32; 3]], fixed: &[bool]) -> Layout {
-        let n = points.len();
-        let z = z_order(points);
-        let mut rank = vec![0u32; n];
-        for (i, &v) in z.iter().enumerate() {
-            rank[v as usize] = i as u32;
-        }
-        // The corners of each point (Z numbering): the edge opposite it in each of its
-        // triangles, as (first, second) counter-clockwise.
-        let ranked: Vec<[u32; 3]> = triangles
-            .par_iter()
-            .map(|t| t.map(|v| rank[v as usize]))
+    /// Cuts the free points (those with a ring), in the order `sequence` lists them, into
+    /// tiles, colours the seam points (greedily, in that order) and numbers everything tile by
+    /// tile and colour by colour. `original` is in the numbering of `stars`.
+    fn new(stars: &Stars, sequence: &[u32]) -> Layout {
+        let n = stars.len();
+        let ring_at = |i: usize| stars.ring(i);
+        let free: Vec<u32> = sequence
+            .iter()
+            .copied()
+            .filter(|&i| !ring_at(i as usize).is_empty())
             .collect();
-        let mut first = vec![0u32; n + 1];
-        for r in &ranked {
-            for &v in r {
-                first[v as usize + 1] += 1;
-            }
-        }
-        for i in 0..n {
-            first[i + 1] += first[i];
-        }
-        // Filled in parallel over FILL_RANGES ranges of points: each range scans all triangles
-        // and keeps its own corners (the scattered writes, not the scan, are the cost).
-        let mut corners = vec![[0u32; 2]; first[n] as usize];
-        let bounds: Vec<usize> = (0..=FILL_RANGES).map(|r| r * n / FILL_RANGES).collect();
-        let mut slices = Vec::with_capacity(FILL_RANGES);
-        let mut rest = &mut corners[..];
-        for r in 0..FILL_RANGES {
-            let len = (first[bounds[r + 1]] - first[bounds[r]]) as usize;
-            let (own, tail) = rest.split_at_mut(len);
-            slices.push(own);
-            rest = tail;
-        }
-        slices.into_par_iter().enumerate().for_each(|(r, own)| {
-            let points = bounds[r]..bounds[r + 1];
-            let base = first[points.start];
-            let mut fill: Vec<u32> = first[points.clone()].iter().map(|&f| f - base).collect();
-            for t in &ranked {
-                for k in 0..3 {
-                    let v = t[k] as usize;
-                    if points.contains(&v) {
-                        let at = &mut fill[v - points.start];
-                        own[*at as usize] = [t[(k + 1) % 3], t[(k + 2) % 3]];
-                        *at += 1;
-                    }
-                }
-            }
-        });
-        drop(ranked);
-        // Rings of the free points whose corners chain into one closed cycle (Z numbering);
-        // the others stay fixed.
-        // (In parallel chunks of points, concatenated in order.)
-        // Each chunk's rings, and its free points with where their rings start.
-        type Part = (Vec<u32>, Vec<(u32, u32)>);
-        let parts: Vec<Part> = (0..n.div_ceil(RING_CHUNK))
-            .into_par_iter()
-            .map(|k| {
-                let (mut rings, mut free) = (Vec::new(), Vec::new());
-                for i in k * RING_CHUNK..((k + 1) * RING_CHUNK).min(n) {
-                    let c = &corners[first[i] as usize..first[i + 1] as usize];
-                    if fixed[z[i] as usize] || c.is_empty() {
-                        continue;
-                    }
-                    let at = rings.len();
-                    if chain(c, &mut rings) {
-                        free.push((i as u32, at as u32));
-                    } else {
-                        rings.truncate(at);
-                    }
-                }
-                (rings, free)
-            })
-            .collect();
-        let mut ring_of: Vec<(u32, u32)> = vec![(0, 0); n];
-        let mut rings: Vec<u32> = Vec::with_capacity(corners.len());
-        let mut free: Vec<u32> = Vec::new();
-        for (part, members) in parts {
-            let base = rings.len() as u32;
-            for (j, &(i, at)) in members.iter().enumerate() {
-                let end = members.get(j + 1).map_or(part.len() as u32, |m| m.1);
-                ring_of[i as usize] = (base + at, base + end);
-                free.push(i);
-            }
-            rings.extend_from_slice(&part);
-        }
-        let ring_at = |i: usize| &rings[ring_of[i].0 as usize..ring_of[i].1 as usize];
-        // Tiles: runs of TILE free points in Z-order. A point is inner if every free neighbour
+        // Tiles: runs of TILE free points in sequence. A point is inner if every free neighbour
         // is in its tile, else on the seam.
         let mut tile_of = vec![u32::MAX; n];
         for (k, &i) in free.iter().enumerate() {
@@ -850,49 +836,15 @@ impl Layout {
                 tile
             })
             .collect();
-        let widest = (0..n)
-            .map(|i| ring_of[i].1 - ring_of[i].0)
-            .max()
-            .unwrap_or(0) as usize;
         Layout {
-            widest,
-            original: order.iter().map(|&i| z[i as usize]).collect(),
+            widest: stars.widest(),
+            original: order,
             tiles,
             seam_start,
             rings: seam_rings,
             colours,
         }
     }
-}
-
-/// Appends the neighbours of a point in counter-clockwise order to `out`, from its corners
-/// (the opposite edge of each of its triangles): true if they chain into one closed cycle
-/// through every corner once, false otherwise (`out` then holds garbage past its old length).
-///
-/// The chain follows, from each neighbour, the last corner starting there; a walk that comes
-/// back to its start after exactly one step per corner has visited distinct neighbours, hence
-/// every corner once.
-fn chain(corners: &[[u32; 2]], out: &mut Vec<u32>) -> bool {
-    let [start, mut at] = corners[0];
-    out.push(start);
-    for _ in 1..corners.len() {
-        if at == start {
-            return false;
-        }
-        // Without an early exit (the loop is short, a mispredicted exit is not).
-        let mut next = usize::MAX;
-        for (k, c) in corners.iter().enumerate() {
-            if c[0] == at {
-                next = k;
-            }
-        }
-        if next == usize::MAX {
-            return false;
-        }
-        out.push(at);
-        at = corners[next][1];
-    }
-    at == start
 }
 
 /// The points' order along a Z-order (Morton) curve of 16 bits per axis.

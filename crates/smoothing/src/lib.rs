@@ -20,6 +20,7 @@ mod laplace;
 mod laplace3;
 mod quality;
 mod quality3;
+mod stars;
 mod tet;
 
 pub use laplace::{
@@ -31,3 +32,4 @@ pub use quality3::{
     dihedral_range, min_dihedral_cosine, QualityReport3, DIHEDRAL_BIN_EDGES, REGULAR_DIHEDRAL,
     SLIVER_ANGLE,
 };
+pub use stars::Stars;

@@ -2,7 +2,7 @@
 //! with a fixed boundary, and improves a jittered grid; the quality report is stable.
 
 use delmesh_predicates::{orient2d, Sign};
-use delmesh_smoothing::{QualityReport, SmoothError, Smoother};
+use delmesh_smoothing::{QualityReport, SmoothError, Smoother, Stars};
 use proptest::prelude::*;
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
@@ -153,6 +153,83 @@ fn bad_input_is_an_error() {
         .is_err());
     pts[4] = [f64::NAN, 0.0];
     assert!(Smoother::new().smooth(&mut pts, &tris, &fixed).is_err());
+}
+
+/// The stars of a k × k grid as `jittered_grid` triangulates it: each interior point's six
+/// neighbours counter-clockwise (boundary points get none).
+fn grid_stars(k: usize) -> Stars {
+    let id = |i: usize, j: usize| (j * (k + 1) + i) as u32;
+    let (mut start, mut ring) = (vec![0u32], Vec::new());
+    for j in 0..=k {
+        for i in 0..=k {
+            if i > 0 && j > 0 && i < k && j < k {
+                ring.extend([
+                    id(i + 1, j),
+                    id(i + 1, j + 1),
+                    id(i, j + 1),
+                    id(i - 1, j),
+                    id(i - 1, j - 1),
+                    id(i, j - 1),
+                ]);
+            }
+            start.push(ring.len() as u32);
+        }
+    }
+    Stars::from_rings(start, ring).unwrap()
+}
+
+#[test]
+fn stars_given_smooth_as_the_triangles_do() {
+    let (pts, tris, fixed) = jittered_grid(30, 0.25, 7);
+    let (mut by_triangles, mut by_stars) = (pts.clone(), pts.clone());
+    let a = Smoother::new()
+        .smooth(&mut by_triangles, &tris, &fixed)
+        .unwrap();
+    let b = Smoother::new()
+        .smooth_stars(&mut by_stars, &grid_stars(30))
+        .unwrap();
+    // The same moves, summed from another neighbour first: equal up to rounding.
+    assert_eq!(
+        (a.passes, a.moved, a.reduced, a.skipped),
+        (b.passes, b.moved, b.reduced, b.skipped)
+    );
+    let apart = by_triangles
+        .iter()
+        .zip(&by_stars)
+        .map(|(p, q)| (p[0] - q[0]).abs().max((p[1] - q[1]).abs()))
+        .fold(0.0, f64::max);
+    assert!(apart < 1e-12, "{apart}");
+    assert!(a.moved > 0 && all_positive(&by_stars, &tris));
+}
+
+#[test]
+fn bad_stars_are_an_error() {
+    let bad = |start: Vec<u32>, ring: Vec<u32>| {
+        matches!(
+            Stars::from_rings(start, ring),
+            Err(SmoothError::BadInput(_))
+        )
+    };
+    assert!(bad(vec![], vec![]));
+    assert!(bad(vec![1, 3], vec![1, 2, 3]));
+    assert!(bad(vec![0, 2], vec![1, 2, 3]));
+    assert!(bad(vec![0, 3, 2, 3], vec![1, 2, 0]));
+    // A ring naming a point out of range, its own point, or too short.
+    assert!(bad(vec![0, 3, 3, 3], vec![1, 2, 7]));
+    assert!(bad(vec![0, 3, 3, 3], vec![1, 0, 2]));
+    assert!(bad(vec![0, 2, 2, 2], vec![1, 2]));
+    // Clockwise: the star's triangles are not positive.
+    let (mut pts, _, _) = jittered_grid(2, 0.0, 1);
+    let clockwise = Stars::from_rings(
+        (0..=9).map(|i| if i <= 4 { 0 } else { 6 }).collect(),
+        vec![1, 0, 3, 7, 8, 5],
+    )
+    .unwrap();
+    assert!(Smoother::new().smooth_stars(&mut pts, &clockwise).is_err());
+    // More stars than points.
+    assert!(Smoother::new()
+        .smooth_stars(&mut pts[..4], &grid_stars(2))
+        .is_err());
 }
 
 #[test]
