@@ -782,8 +782,45 @@ impl ConstrainedTriangulation2 {
     /// is on the hull; coordinate errors as for insertion.
     pub fn move_vertices(&mut self, moves: &[(VertexId, [f64; 2])]) -> Result<(), ConstraintError> {
         let (old, moved) = self.tri.place_vertices(moves)?;
-        // One scan over the cells in slot order (memory order, in parallel), rather than a walk
-        // around each moved vertex: every cell with a moved vertex must be finite and positive.
+        if !self.accept_moves(&moved) {
+            // Name the first vertex, in `moves` order, with a broken star.
+            let first = moves
+                .iter()
+                .find(|&&(v, _)| !self.star_positive(v))
+                .map_or(moves[0].0, |&(v, _)| v);
+            self.tri.put_back(&old);
+            return Err(ConstraintError::InvalidMove { vertex: first });
+        }
+        Ok(())
+    }
+
+    /// [`Self::move_vertices`] for every vertex at once: vertex `v` goes to `positions[v]`
+    /// (caller's coordinates; one per vertex, those of the hull where they are). Cheaper than
+    /// listing the moves when most vertices move (smoothing): the positions are placed in
+    /// parallel.
+    ///
+    /// # Errors
+    /// As [`Self::move_vertices`] (the vertex named is the first in numbering order with a
+    /// broken star); a number of positions other than of vertices is an
+    /// [`ConstraintError::InvalidMove`] naming the vertex past the last.
+    pub fn move_all_vertices(&mut self, positions: &[[f64; 2]]) -> Result<(), ConstraintError> {
+        let (old, moved) = self.tri.place_all_vertices(positions)?;
+        if !self.accept_moves(&moved) {
+            let first = (0..moved.len() as u32)
+                .map(VertexId)
+                .find(|&v| moved[v.index()] && !self.star_positive(v))
+                .unwrap_or(VertexId(0));
+            self.tri.points = old;
+            return Err(ConstraintError::InvalidMove { vertex: first });
+        }
+        Ok(())
+    }
+
+    /// After the vertices with `moved` set were placed: false if a cell around one of them is
+    /// a ghost or not positive, else true with those cells marked as changed. One scan over
+    /// the cells in slot order (memory order, in parallel), rather than a walk around each
+    /// moved vertex.
+    fn accept_moves(&mut self, moved: &[bool]) -> bool {
         let touches = |s: &crate::triangulation::Simplex| {
             s.v[0] != VertexId::DEAD && s.v[..3].iter().any(|&u| !u.is_ghost() && moved[u.index()])
         };
@@ -803,13 +840,7 @@ impl ConstrainedTriangulation2 {
                         ) != Sign::Positive)
             });
         if broken {
-            // Name the first vertex, in `moves` order, with a broken star.
-            let first = moves
-                .iter()
-                .find(|&&(v, _)| !self.star_positive(v))
-                .map_or(moves[0].0, |&(v, _)| v);
-            self.tri.put_back(&old);
-            return Err(ConstraintError::InvalidMove { vertex: first });
+            return false;
         }
         if self.log.is_some() {
             for c in (0..self.tri.simplices.len() as u32).map(CellId) {
@@ -829,7 +860,7 @@ impl ConstrainedTriangulation2 {
                     }
                 });
         }
-        Ok(())
+        true
     }
 
     /// Whether every cell around `v` is finite and positively oriented.

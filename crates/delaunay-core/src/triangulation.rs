@@ -567,6 +567,33 @@ impl<D: Dim> Triangulation<D> {
         Ok((old, moved))
     }
 
+    /// [`Self::place_vertices`] for every vertex, `positions[v]` for vertex `v`, in parallel:
+    /// returns the old positions and the mask of the vertices whose position changed. On an
+    /// error nothing moves.
+    pub(crate) fn place_all_vertices(
+        &mut self,
+        positions: &[D::Point],
+    ) -> Result<(Vec<D::Point>, Vec<bool>), ConstraintError> {
+        if positions.len() != self.num_vertices() {
+            return Err(ConstraintError::InvalidMove {
+                vertex: VertexId(positions.len() as u32),
+            });
+        }
+        let placed: Vec<D::Point> = positions
+            .par_iter()
+            .with_min_len(1 << 12)
+            .map(|&p| self.scaled_input(self.flush_tiny(p)))
+            .collect::<Result<_, _>>()?;
+        let old = std::mem::replace(&mut self.points, placed);
+        let moved = old
+            .par_iter()
+            .zip(&self.points)
+            .with_min_len(1 << 12)
+            .map(|(a, b)| a != b)
+            .collect();
+        Ok((old, moved))
+    }
+
     /// Undoes [`Self::place_vertices`] given the old positions it returned.
     pub(crate) fn put_back(&mut self, old: &OldPositions<D>) {
         for &(u, q) in old.iter().rev() {

@@ -284,6 +284,66 @@ fn moves_that_invert_are_refused_and_flips_restore_delaunay() {
     assert_eq!(cell_set(t), cell_set(&Triangulation2::new(&now).unwrap()));
 }
 
+#[test]
+fn moving_all_vertices_at_once_checks_every_star() {
+    let pts = uniform2(400, 12);
+    let mut cdt = ConstrainedTriangulation2::new(Triangulation2::new(&pts).unwrap());
+    let t = cdt.triangulation();
+    let here: Vec<[f64; 2]> = (0..t.num_vertices() as u32)
+        .map(|v| t.vertex(VertexId(v)))
+        .collect();
+    // Every vertex where it is: nothing changes.
+    cdt.move_all_vertices(&here).unwrap();
+    assert_eq!(cdt.triangulation().vertex(VertexId(7)), here[7]);
+    // One position per vertex, no fewer.
+    assert!(matches!(
+        cdt.move_all_vertices(&here[1..]),
+        Err(ConstraintError::InvalidMove { .. })
+    ));
+    // Interior vertices shrunk a little towards the centre keep every cell positive; the hull
+    // stays (a hull vertex cannot move).
+    let hull: Vec<bool> = (0..here.len() as u32)
+        .map(|v| {
+            let t = cdt.triangulation();
+            t.cells_around_vertex(VertexId(v))
+                .iter()
+                .any(|&c| t.is_ghost(c))
+        })
+        .collect();
+    let shrunk: Vec<[f64; 2]> = here
+        .iter()
+        .zip(&hull)
+        .map(|(p, &h)| {
+            if h {
+                *p
+            } else {
+                [0.5 + 0.999 * (p[0] - 0.5), 0.5 + 0.999 * (p[1] - 0.5)]
+            }
+        })
+        .collect();
+    cdt.move_all_vertices(&shrunk).unwrap();
+    cdt.make_delaunay();
+    cdt.validate().unwrap();
+    let t = cdt.triangulation();
+    assert!((0..here.len()).all(|v| t.vertex(VertexId(v as u32)) == shrunk[v]));
+    // An interior vertex sent to a far corner inverts its star: refused, nothing moves, and
+    // the vertex is named.
+    let inner = (0..here.len())
+        .find(|&v| !hull[v] && (shrunk[v][0] - 0.5).abs() < 0.1 && (shrunk[v][1] - 0.5).abs() < 0.1)
+        .unwrap();
+    let mut bad = shrunk.clone();
+    bad[inner] = [0.99, 0.99];
+    assert_eq!(
+        cdt.move_all_vertices(&bad),
+        Err(ConstraintError::InvalidMove {
+            vertex: VertexId(inner as u32)
+        })
+    );
+    let t = cdt.triangulation();
+    assert!((0..here.len()).all(|v| t.vertex(VertexId(v as u32)) == shrunk[v]));
+    cdt.validate().unwrap();
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(24))]
     #[test]

@@ -27,7 +27,6 @@ use delmesh_boundary_recovery::{
     BoundaryRecovery, Mesh2, MeshArrays, Plc2, RecoveryHistory, RecoveryMethod, RegionSeed,
     Segment, SegmentSplits, SmoothingStars,
 };
-use delmesh_delaunay_core::VertexId;
 use delmesh_io::PolyFile;
 use delmesh_point_gen::{
     Adaptation, AreaLimits, BackgroundMesh2, GenerationReport, PointGeneration, QualityRefinement,
@@ -35,7 +34,6 @@ use delmesh_point_gen::{
 };
 use delmesh_predicates::{orient2d, Sign};
 use delmesh_smoothing::{QualityReport, SmoothStats, Smoother, Stars};
-use rayon::prelude::*;
 
 use crate::sources::check_sources2;
 use crate::{units, Error};
@@ -229,16 +227,9 @@ fn mesh_plc_as_given(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Err
             let stars = Stars::from_rings(start, ring)
                 .map_err(|e| Error::Internal(format!("the mesh's stars: {e}")))?;
             let stats = smoother.smooth_stars(&mut coords, &stars)?;
-            let tri = mesh.cdt.triangulation();
-            let moves: Vec<_> = (0..coords.len() as u32)
-                .into_par_iter()
-                .map(VertexId)
-                .filter(|&v| coords[v.index()] != tri.vertex(v))
-                .map(|v| (v, coords[v.index()]))
-                .collect();
             // The smoother keeps every element positive, so the triangulation accepts the moves.
             mesh.cdt
-                .move_vertices(&moves)
+                .move_all_vertices(&coords)
                 .map_err(|e| Error::Internal(format!("smoothing moved a vertex badly: {e}")))?;
             lap("smoothing", &mut timings);
             if options.delaunay_flips {
