@@ -27,6 +27,11 @@ pub trait Dim: Copy + Clone + Debug + Send + Sync + 'static {
     /// `points`), exact and symbolically perturbed (never zero): the hot path of cavity search.
     fn insphere_cell(points: &[Self::Point], cell: &[VertexId; 4], q: Self::Point) -> Sign;
 
+    /// Whether `q` lies exactly on the circumsphere (circumcircle) of the finite cell `cell`:
+    /// the exact in-sphere determinant, unperturbed, is zero. A neighbour across a facet whose
+    /// far vertex is so placed has the same circumcentre (the Voronoi dual merges the two).
+    fn cospherical(points: &[Self::Point], cell: &[VertexId; 4], q: Self::Point) -> bool;
+
     /// Orientation of the finite cell `cell` with its vertex `f` replaced by `q`: negative
     /// when `q` lies strictly beyond the cell's facet `f` (the hot path of the walk).
     fn orient_replacing(
@@ -87,6 +92,11 @@ impl Dim for D2 {
             Sign::Zero => incircle_on_circle([a, b, c, q]),
             s => s,
         }
+    }
+
+    fn cospherical(points: &[[f64; 2]], cell: &[VertexId; 4], q: [f64; 2]) -> bool {
+        let p = |k: usize| points[cell[k].index()];
+        pred::incircle(p(0), p(1), p(2), q) == Sign::Zero
     }
 
     #[inline(always)]
@@ -163,6 +173,11 @@ impl Dim for D3 {
         let (a, b) = (points[cell[0].index()], points[cell[1].index()]);
         let (c, d) = (points[cell[2].index()], points[cell[3].index()]);
         pred::insphere_lex([a, b, c, d, q])
+    }
+
+    fn cospherical(points: &[[f64; 3]], cell: &[VertexId; 4], q: [f64; 3]) -> bool {
+        let p = |k: usize| points[cell[k].index()];
+        pred::insphere(p(0), p(1), p(2), p(3), q) == Sign::Zero
     }
 
     #[inline(always)]

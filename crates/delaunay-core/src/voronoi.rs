@@ -5,6 +5,12 @@
 //! its facets, `*` on the hull: the paper's Table 1. The Voronoi region of a point is the polygon
 //! (2D) or polyhedron (3D) of the circumcentres around it: in 2D unbounded regions are clipped to
 //! a box; in 3D only bounded regions (points inside the hull) are produced.
+//!
+//! Co-spherical points (a lattice) are triangulated by several cells inscribed in one sphere,
+//! which share one circumcentre: the regions list it once, and 3D faces left without area
+//! (the duals of the diagonals the triangulation chose through such points) are dropped.
+//! Which cells share a circumcentre is decided by the exact in-sphere predicate, never by
+//! comparing constructed centres.
 
 use crate::dim::{Dim, D2, D3};
 use crate::ids::{CellId, VertexId};
@@ -139,11 +145,61 @@ pub struct VoronoiCell2 {
     pub polygon: Vec<[f64; 2]>,
 }
 
+impl<D: Dim> Triangulation<D> {
+    /// For every cell slot, the first slot of the finite cells with the same circumcentre
+    /// (itself for a cell alone on its circumsphere, and for ghost and free slots).
+    ///
+    /// Two cells sharing a facet have the same circumcentre exactly when the far vertex of
+    /// one lies on the circumsphere of the other ([`Dim::cospherical`]: the exact predicate,
+    /// unperturbed), and the cells inscribed in one sphere (a triangulation of the polytope of
+    /// its points, a lattice's square or cube) are connected through such facets.
+    fn circumcentre_classes(&self) -> Vec<u32> {
+        let slots = self.num_cell_slots();
+        // The facets between cells of one circumsphere, each once (from its lower cell).
+        let merges: Vec<(u32, u32)> = (0..slots as u32)
+            .into_par_iter()
+            .map(CellId)
+            .filter(|&c| self.is_live(c) && !self.is_ghost(c))
+            .flat_map_iter(|c| {
+                (0..D::C).filter_map(move |i| {
+                    let f = self.neighbor_facet(c, i);
+                    let n = f.cell();
+                    if n < c || self.is_ghost(n) {
+                        return None;
+                    }
+                    let far = self.point(self.cell(n)[f.facet()]);
+                    D::cospherical(&self.points, &self.simplices[c.index()].v, far)
+                        .then_some((c.0, n.0))
+                })
+            })
+            .collect();
+        // Union–find, each class rooted at its first slot (every link points to a lower one).
+        let mut class: Vec<u32> = (0..slots as u32).collect();
+        let root = |class: &mut Vec<u32>, mut c: u32| {
+            while class[c as usize] != c {
+                let up = class[class[c as usize] as usize];
+                class[c as usize] = up;
+                c = up;
+            }
+            c
+        };
+        for (a, b) in merges {
+            let (a, b) = (root(&mut class, a), root(&mut class, b));
+            class[a.max(b) as usize] = a.min(b);
+        }
+        for c in 0..slots {
+            class[c] = class[class[c] as usize];
+        }
+        class
+    }
+}
+
 /// The bounded 3D Voronoi regions as polygons on shared vertices (see
 /// [`Triangulation::voronoi_faces_shared`]): flat arrays, no allocation per face.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct VoronoiFaces3 {
-    /// The Voronoi vertices: the circumcentres of the tetrahedra that bound a face, each once.
+    /// The Voronoi vertices: the circumcentres of the tetrahedra that bound a face, each
+    /// once (tetrahedra inscribed in one sphere share theirs).
     pub vertices: Vec<[f64; 3]>,
     /// Per face, the input indices of the point whose region it bounds and of the point on
     /// the other side.
@@ -151,7 +207,8 @@ pub struct VoronoiFaces3 {
     /// Where each face's corners end in `corners` (face `k` is `corners[ends[k - 1]..ends[k]]`,
     /// VTK's polygon offsets).
     pub ends: Vec<usize>,
-    /// The faces' corners (indices into `vertices`), each face in cyclic order.
+    /// The faces' corners (indices into `vertices`), each face in cyclic order, at least three
+    /// and no two consecutive the same.
     pub corners: Vec<u32>,
 }
 
@@ -180,7 +237,8 @@ pub struct VoronoiFace3 {
     pub point: usize,
     /// Input index of the point on the other side of the face.
     pub neighbor: usize,
-    /// The circumcentres around the Delaunay edge `point–neighbor`, in cyclic order.
+    /// The circumcentres around the Delaunay edge `point–neighbor`, in cyclic order, each
+    /// once.
     pub polygon: Vec<[f64; 3]>,
 }
 
@@ -194,6 +252,9 @@ impl Triangulation<D2> {
     /// is computed from its circumcentre and direction: no ray is truncated, so no finite
     /// stand-in for infinity can fall inside the box or fold the polygon over. The regions so
     /// tile the box (up to the rounding of the constructions) and each contains its point.
+    /// Each distinct circumcentre is one corner: the triangles inscribed in one circle
+    /// (co-circular points) give the same one, computed from the same triangle in every
+    /// region, so neighbouring regions share it to the bit.
     /// Computed in the triangulation's internal units (a power of two from the caller's, so
     /// the box's sides come back exactly), where nothing overflows.
     pub fn voronoi_cells(&self, lo: [f64; 2], hi: [f64; 2]) -> Vec<VoronoiCell2> {
@@ -201,10 +262,11 @@ impl Triangulation<D2> {
         let limit = f64::MAX / 16.0;
         let inside = |x: f64| (x * self.scale).clamp(-limit, limit);
         let (lo, hi) = (lo.map(inside), hi.map(inside));
+        let class = self.circumcentre_classes();
         (0..self.num_vertices())
             .map(|v| {
                 let v = VertexId(v as u32);
-                let polygon = clip_to_box(self.voronoi_polygon(v), lo, hi)
+                let polygon = clip_to_box(self.voronoi_polygon(v, &class), lo, hi)
                     .into_iter()
                     .map(|p| p.map(|x| x * self.unscale))
                     .collect();
@@ -245,19 +307,28 @@ impl Triangulation<D2> {
     }
 
     /// The Voronoi region of `v` counter-clockwise, in internal units: the circumcentres of
-    /// its cells, between the directions of its two rays if `v` is on the hull.
-    fn voronoi_polygon(&self, v: VertexId) -> Vec<Corner> {
+    /// its cells, each once (`class`: see `circumcentre_classes`), between the directions of
+    /// its two rays if `v` is on the hull.
+    fn voronoi_polygon(&self, v: VertexId, class: &[u32]) -> Vec<Corner> {
         let ring = self.ring_around(v);
         let finite: Vec<CellId> = ring
             .iter()
             .copied()
             .filter(|&c| !self.is_ghost(c))
             .collect();
-        let mut poly: Vec<Corner> = finite
+        // Consecutive cells inscribed in one circle give one corner, at the circumcentre of
+        // the first cell of that circle.
+        let mut centres: Vec<CellId> = finite.iter().map(|&c| CellId(class[c.index()])).collect();
+        centres.dedup();
+        let closed = finite.len() == ring.len();
+        if closed && centres.len() > 1 && centres.first() == centres.last() {
+            centres.pop();
+        }
+        let mut poly: Vec<Corner> = centres
             .iter()
             .map(|&c| Corner::At(self.internal_circumcenter(c)))
             .collect();
-        if finite.len() == ring.len() {
+        if closed {
             return poly;
         }
         // Unbounded: the ray of a hull edge `v w` leaves the circumcentre of the edge's cell
@@ -399,8 +470,14 @@ fn crossing(a: Corner, b: Corner, axis: usize, bound: f64) -> Corner {
 
 impl Triangulation<D3> {
     /// The faces of every bounded Voronoi region (points strictly inside the convex hull):
-    /// one face per Delaunay edge at the point, a ring of circumcentres. (Each face carries its
-    /// own copy of its corners: [`Triangulation::voronoi_faces_shared`] is the compact form.)
+    /// one face per Delaunay edge at the point, a ring of circumcentres, each once. (Each face
+    /// carries its own copy of its corners: [`Triangulation::voronoi_faces_shared`] is the
+    /// compact form.)
+    ///
+    /// An edge whose ring has fewer than three distinct circumcentres has no face (no area):
+    /// it is a diagonal the triangulation chose through co-spherical points, inside their
+    /// polytope (one centre: a lattice cube's body diagonal) or across a polygon two such
+    /// polytopes share (two centres: a square's diagonal).
     pub fn voronoi_faces(&self) -> Vec<VoronoiFace3> {
         let shared = self.voronoi_faces_shared();
         (0..shared.len())
@@ -417,13 +494,15 @@ impl Triangulation<D3> {
     }
 
     /// [`Triangulation::voronoi_faces`] on shared vertices: each circumcentre is computed and
-    /// stored once, and the faces index them. The points' regions are gathered in parallel,
-    /// in point order (the same result whatever the number of threads).
+    /// stored once (one per circumsphere), and the faces index them. The points' regions are
+    /// gathered in parallel, in point order (the same result whatever the number of threads).
     pub fn voronoi_faces_shared(&self) -> VoronoiFaces3 {
-        /// A run of points' faces: sides, ring lengths, rings (cell slots).
+        /// A run of points' faces: sides, corner counts, corners (first cell slots of their
+        /// circumspheres).
         type Part = (Vec<[usize; 2]>, Vec<u32>, Vec<u32>);
         const CHUNK: usize = 1024;
         let n = self.num_vertices();
+        let class = self.circumcentre_classes();
         let parts: Vec<Part> = (0..n.div_ceil(CHUNK))
             .into_par_iter()
             .map(|k| {
@@ -442,7 +521,12 @@ impl Triangulation<D3> {
                     others.dedup();
                     for w in others {
                         let before = rings.len();
-                        self.ring_around_edge(v, w, &star, &mut rings);
+                        self.ring_around_edge(v, w, &star, &class, &mut rings);
+                        if rings.len() - before < 3 {
+                            // Fewer than three distinct corners: no area, no face.
+                            rings.truncate(before);
+                            continue;
+                        }
                         sides.push([self.input_index(v), self.input_index(w)]);
                         lengths.push((rings.len() - before) as u32);
                     }
@@ -450,7 +534,8 @@ impl Triangulation<D3> {
                 (sides, lengths, rings)
             })
             .collect();
-        // The cells that bound a face, numbered in slot order, and their circumcentres.
+        // The circumspheres that bound a face (their first cells), numbered in slot order, and
+        // their centres.
         let mut number = vec![u32::MAX; self.num_cell_slots()];
         for (_, _, rings) in &parts {
             for &c in rings {
@@ -482,14 +567,29 @@ impl Triangulation<D3> {
         out
     }
 
-    /// Appends the cells around edge `v w` in cyclic order (all finite: `v` is interior) to
-    /// `ring`, as slot numbers.
-    fn ring_around_edge(&self, v: VertexId, w: VertexId, star: &[CellId], ring: &mut Vec<u32>) {
+    /// Appends the circumcentres of the cells around edge `v w` in cyclic order (all finite:
+    /// `v` is interior) to `ring`, as their classes' slots (see `circumcentre_classes`):
+    /// consecutive cells inscribed in one sphere give one corner.
+    fn ring_around_edge(
+        &self,
+        v: VertexId,
+        w: VertexId,
+        star: &[CellId],
+        class: &[u32],
+        ring: &mut Vec<u32>,
+    ) {
+        let first = ring.len();
+        let push = |ring: &mut Vec<u32>, c: CellId| {
+            let k = class[c.index()];
+            if ring.len() == first || ring.last() != Some(&k) {
+                ring.push(k);
+            }
+        };
         let start = *star
             .iter()
             .find(|&&c| self.cell(c).contains(&w))
             .expect("w is a neighbour of v");
-        ring.push(start.0);
+        push(ring, start);
         let mut prev = start;
         let mut c = start;
         loop {
@@ -502,9 +602,13 @@ impl Triangulation<D3> {
             if next == start {
                 break;
             }
-            ring.push(next.0);
+            push(ring, next);
             prev = c;
             c = next;
+        }
+        // Around the ring, the last corner may be the first.
+        if ring.len() > first + 1 && ring[first] == ring[ring.len() - 1] {
+            ring.pop();
         }
     }
 }

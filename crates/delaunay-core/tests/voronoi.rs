@@ -1,10 +1,12 @@
 //! The Voronoi dual: Table 1's structure (forming points, neighbours, `*` on the hull), 2D
-//! regions that tile their box, 3D faces equidistant from the two points they separate.
+//! regions that tile their box, 3D faces equidistant from the two points they separate; on a
+//! lattice (co-spherical points) each corner once and no face without area.
 
 mod common;
 
 use common::*;
 use delmesh_delaunay_core::*;
+use std::collections::HashMap;
 
 #[test]
 fn table_structure_is_the_dual_of_the_triangulation() {
@@ -76,8 +78,9 @@ fn voronoi_regions_tile_the_box() {
 }
 
 /// Checks that the clipped 2D regions of `pts` tile `[lo, hi]`: each is counter-clockwise
-/// and strictly contains its point (exact orientations of its corners), and their areas add
-/// up to the box's (relative `1e-12`).
+/// and strictly contains its point (exact orientations of its corners, so no edge of zero
+/// length either: co-circular points' triangles give one corner), and their areas add up to
+/// the box's (relative `1e-12`).
 fn assert_regions_tile(pts: &[[f64; 2]], lo: [f64; 2], hi: [f64; 2]) {
     let t = Triangulation2::new(pts).unwrap();
     let cells = t.voronoi_cells(lo, hi);
@@ -87,14 +90,10 @@ fn assert_regions_tile(pts: &[[f64; 2]], lo: [f64; 2], hi: [f64; 2]) {
         let n = poly.len();
         assert!(n >= 3, "{pts:?}: point {} has no region", cell.point);
         let site = pts[cell.point];
-        let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
         for k in 0..n {
             let (p, q) = (poly[k], poly[(k + 1) % n]);
-            // (Edges of rounding length: co-circular points' circumcentres.)
-            let tiny = (p[0] - q[0]).abs().max((p[1] - q[1]).abs()) <= 1e-12 * size;
             assert!(
-                tiny || delmesh_predicates::orient2d(p, q, site)
-                    == delmesh_predicates::Sign::Positive,
+                delmesh_predicates::orient2d(p, q, site) == delmesh_predicates::Sign::Positive,
                 "{pts:?}: region of {} does not contain it: {poly:?}",
                 cell.point
             );
@@ -450,4 +449,170 @@ fn far_from_unit_magnitudes_have_finite_regions_and_centres() {
         let c = vd.circumcenter(0);
         assert!(c.iter().all(|x| (x / s - 0.5).abs() < 1e-12), "{s}: {c:?}");
     }
+}
+
+/// A constructed point's bits, to compare corners exactly.
+fn bits<const N: usize>(p: [f64; N]) -> [u64; N] {
+    p.map(f64::to_bits)
+}
+
+#[test]
+fn lattice_regions_list_each_corner_once() {
+    // A 6 × 6 grid: the two triangles of each unit square have one circumcentre, which 34 of
+    // the 36 regions listed twice in a row (all but the two grid corners no diagonal reaches).
+    // Each region is the unit square around its point, its four corners once each, and the
+    // CLI's box (10% larger than the grid's) clips none.
+    let pts = grid2(6);
+    let t = Triangulation2::new(&pts).unwrap();
+    let (lo, hi) = enlarged_box(&pts);
+    assert_eq!((lo, hi), ([-0.5, -0.5], [5.5, 5.5]));
+    let cells = t.voronoi_cells(lo, hi);
+    assert_eq!(cells.len(), 36);
+    for cell in &cells {
+        let [x, y] = pts[cell.point];
+        let mut corners = cell.polygon.clone();
+        corners.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        assert_eq!(
+            corners,
+            [
+                [x - 0.5, y - 0.5],
+                [x - 0.5, y + 0.5],
+                [x + 0.5, y - 0.5],
+                [x + 0.5, y + 0.5]
+            ],
+            "region of {:?}: {:?}",
+            pts[cell.point],
+            cell.polygon
+        );
+    }
+    // Counter-clockwise, each containing its point, areas adding up to the box's (36); and so
+    // in a box that cuts the outer regions.
+    assert_regions_tile(&pts, lo, hi);
+    assert_regions_tile(&pts, [-0.3, -0.7], [5.2, 5.9]);
+}
+
+#[test]
+fn lattice_3d_regions_are_unit_cubes() {
+    // A 4 × 4 × 4 grid: the 2 × 2 × 2 points inside the hull have for regions the unit cubes
+    // around them, 6 square faces each (48), whose corners are the centres of the lattice's
+    // 27 cubes. The tetrahedra also have the diagonals of the squares (whose rings have two
+    // centres, of the two cubes sharing the square) and of the cubes (one centre): 64 of the
+    // 112 faces had no area.
+    let pts = grid3(4);
+    let t = Triangulation3::new(&pts).unwrap();
+    let shared = t.voronoi_faces_shared();
+    assert_eq!(shared.len(), 48);
+    let mut centres: Vec<[u64; 3]> = shared.vertices.iter().map(|&v| bits(v)).collect();
+    centres.sort_unstable();
+    centres.dedup();
+    assert_eq!(centres.len(), 27);
+    assert_eq!(shared.vertices.len(), 27);
+    assert!(shared
+        .vertices
+        .iter()
+        .flatten()
+        .all(|x| [0.5, 1.5, 2.5].contains(x)));
+    let mut faces_of: HashMap<usize, Vec<usize>> = HashMap::new();
+    for k in 0..shared.len() {
+        let [p, q] = shared.sides[k];
+        let (a, b) = (pts[p], pts[q]);
+        // The point on the other side is one step along an axis, the face the square between.
+        let distance: f64 = (0..3).map(|i| (a[i] - b[i]).abs()).sum();
+        assert_eq!(distance, 1.0, "{a:?} {b:?}");
+        let face = shared.face(k);
+        assert_eq!(face.len(), 4, "{a:?} {b:?}: {face:?}");
+        for (j, &c) in face.iter().enumerate() {
+            let c = shared.vertices[c as usize];
+            let next = shared.vertices[face[(j + 1) % 4] as usize];
+            assert!(
+                (0..3).all(|i| (c[i] - a[i]).abs() == 0.5 && (c[i] - b[i]).abs() <= 0.5),
+                "{a:?} {b:?}: corner {c:?}"
+            );
+            // Consecutive corners are the ends of a side of the square.
+            assert_eq!((0..3).filter(|&i| c[i] != next[i]).count(), 1);
+        }
+        faces_of.entry(p).or_default().push(q);
+    }
+    assert_eq!(faces_of.len(), 8);
+    for (p, neighbors) in &faces_of {
+        assert!(
+            pts[*p].iter().all(|&x| x == 1.0 || x == 2.0),
+            "{:?}",
+            pts[*p]
+        );
+        assert_eq!(neighbors.len(), 6, "{:?}", pts[*p]);
+    }
+}
+
+#[test]
+fn non_degenerate_regions_keep_every_circumcentre() {
+    // Random points have no four co-circular (five co-spherical): nothing is merged, a region
+    // has one corner per cell around its point and every edge at a point inside the hull has
+    // a face, whose corners are the centres of the tetrahedra around the edge.
+    let pts = uniform2(300, 24);
+    let t = Triangulation2::new(&pts).unwrap();
+    let vd = VoronoiDiagram::new(&t);
+    let centre: HashMap<CellId, [u64; 2]> = (0..vd.len())
+        .map(|i| (vd.cell(i), bits(vd.circumcenter(i))))
+        .collect();
+    // A box around every circumcentre: the regions of points inside the hull are not clipped.
+    let (mut lo, mut hi) = enlarged_box(&pts);
+    for i in 0..vd.len() {
+        let c = vd.circumcenter(i);
+        for k in 0..2 {
+            lo[k] = lo[k].min(c[k] - 1.0);
+            hi[k] = hi[k].max(c[k] + 1.0);
+        }
+    }
+    let mut inside = 0;
+    for cell in t.voronoi_cells(lo, hi) {
+        let star = t.cells_around_vertex(t.vertex_of_input(cell.point));
+        if star.iter().any(|&c| t.is_ghost(c)) {
+            continue;
+        }
+        let mut expected: Vec<[u64; 2]> = star.iter().map(|c| centre[c]).collect();
+        let mut corners: Vec<[u64; 2]> = cell.polygon.iter().map(|&p| bits(p)).collect();
+        expected.sort_unstable();
+        corners.sort_unstable();
+        assert_eq!(corners, expected, "region of {}", cell.point);
+        inside += 1;
+    }
+    assert!(inside > 250, "{inside} points inside the hull");
+
+    let pts = uniform3(500, 25);
+    let t = Triangulation3::new(&pts).unwrap();
+    let vd = VoronoiDiagram::new(&t);
+    let centre: HashMap<CellId, [u64; 3]> = (0..vd.len())
+        .map(|i| (vd.cell(i), bits(vd.circumcenter(i))))
+        .collect();
+    let mut expected: HashMap<[usize; 2], Vec<[u64; 3]>> = HashMap::new();
+    for v in (0..t.num_vertices()).map(|v| VertexId(v as u32)) {
+        let star = t.cells_around_vertex(v);
+        if star.iter().any(|&c| t.is_ghost(c)) {
+            continue;
+        }
+        for w in star.iter().flat_map(|&c| t.cell(c).to_vec()) {
+            if w != v {
+                let mut ring: Vec<[u64; 3]> =
+                    t.cells_around(&[v, w]).iter().map(|c| centre[c]).collect();
+                ring.sort_unstable();
+                expected.insert([t.input_index(v), t.input_index(w)], ring);
+            }
+        }
+    }
+    let faces = t.voronoi_faces();
+    let got: HashMap<[usize; 2], Vec<[u64; 3]>> = faces
+        .iter()
+        .map(|f| {
+            let mut corners: Vec<[u64; 3]> = f.polygon.iter().map(|&p| bits(p)).collect();
+            corners.sort_unstable();
+            ([f.point, f.neighbor], corners)
+        })
+        .collect();
+    assert_eq!(got.len(), faces.len());
+    assert!(got.len() > 1000, "{} faces", got.len());
+    assert!(
+        got == expected,
+        "the faces are not the rings of centres around the edges"
+    );
 }

@@ -345,12 +345,13 @@ impl DelaunayRun {
     ///   bounding box enlarged by 10% on each side; cell data `point` is the point's index in
     ///   the input file's numbering (duplicates share their original's cell).
     /// - 3D: one polygon per face of each bounded Voronoi cell (points strictly inside the
-    ///   convex hull); cell data `point` is the point whose cell the face bounds and `neighbor`
-    ///   the point on the other side, both in the input file's numbering. An interior face is
-    ///   thus written twice, once per side.
+    ///   convex hull; no face without area, as co-spherical points make); cell data `point` is
+    ///   the point whose cell the face bounds and `neighbor` the point on the other side, both
+    ///   in the input file's numbering. An interior face is thus written twice, once per side.
     ///
-    /// Polygon corners (circumcentres, or clipping points) are the file's points: in 3D each
-    /// circumcentre once, shared by its faces; in 2D each region has its own (clipped) corners.
+    /// Polygon corners (circumcentres, or clipping points) are the file's points, no polygon
+    /// listing one twice: in 3D each circumcentre once, shared by its faces; in 2D each region
+    /// has its own (clipped) corners.
     ///
     /// # Errors
     /// [`Error::UnsupportedFormat`] unless `out` ends in `.vtu`, or [`Error::Io`].
@@ -377,8 +378,8 @@ impl DelaunayRun {
                 }
             }
             DelaunayMesh::D3(t) => {
-                // Polygons of at least 3 corners: every ring around an interior edge has 3
-                // tetrahedra or more.
+                // Polygons of at least 3 distinct corners: faces without area (the duals of
+                // diagonals through co-spherical points) are left out by the kernel.
                 let faces = t.voronoi_faces_shared();
                 coords = faces.vertices.iter().flatten().copied().collect();
                 point_ids = faces.sides.iter().map(|s| s[0] as f64 + shift).collect();
