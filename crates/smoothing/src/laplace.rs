@@ -728,19 +728,19 @@ impl Layout {
                 .iter()
                 .all(|&u| matches!(tile_of[u as usize], t if t == u32::MAX || t == tile_of[i]))
         };
+        // Each tile's inner and seam points (tiles in parallel), concatenated in order.
+        let split: Vec<(Vec<u32>, Vec<u32>)> = free
+            .par_chunks(TILE)
+            .map(|run| run.iter().partition(|&&i| inner(i as usize)))
+            .collect();
         let mut order: Vec<u32> = Vec::with_capacity(n);
-        let mut tile_ranges = Vec::new();
+        let mut tile_ranges = Vec::with_capacity(split.len());
         let mut seam: Vec<u32> = Vec::new();
-        for run in free.chunks(TILE) {
+        for (inner, on_seam) in split {
             let s = order.len();
-            for &i in run {
-                if inner(i as usize) {
-                    order.push(i);
-                } else {
-                    seam.push(i);
-                }
-            }
+            order.extend_from_slice(&inner);
             tile_ranges.push(s..order.len());
+            seam.extend_from_slice(&on_seam);
         }
         let seam_start = order.len();
         // Greedy colouring of the seam points, in Z-order: the smallest colour no seam
