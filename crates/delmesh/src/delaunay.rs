@@ -18,6 +18,7 @@ use delmesh_io::{PointSet, SimplexMesh};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::Error;
+use rustc_hash::FxHashMap as HashMap;
 
 /// Inputs with more points than this get a progress bar (when progress is asked for).
 pub const PROGRESS_THRESHOLD: usize = 200_000;
@@ -350,8 +351,8 @@ impl DelaunayRun {
     ///   in the input file's numbering. An interior face is thus written twice, once per side.
     ///
     /// Polygon corners (circumcentres, or clipping points) are the file's points, no polygon
-    /// listing one twice: in 3D each circumcentre once, shared by its faces; in 2D each region
-    /// has its own (clipped) corners.
+    /// listing one twice, each circumcentre once, shared by the regions (2D) or faces (3D) it
+    /// bounds.
     ///
     /// # Errors
     /// [`Error::UnsupportedFormat`] unless `out` ends in `.vtu`, or [`Error::Io`].
@@ -365,13 +366,29 @@ impl DelaunayRun {
         match &self.mesh {
             DelaunayMesh::D2(t) => {
                 let (lo, hi) = voronoi_box(t);
+                // Corners equal to the bit are one point: regions share their circumcentres
+                // (the kernel computes each from the same triangle for every region), and
+                // clipping points where two regions' computations agree.
+                let mut point_of: HashMap<[u64; 2], u32> = HashMap::default();
+                let mut keys = Vec::new();
                 for cell in t.voronoi_cells(lo, hi) {
-                    if cell.polygon.len() < 3 {
+                    // (+ 0.0 makes −0.0 the same point as 0.0.)
+                    keys.clear();
+                    keys.extend(cell.polygon.iter().map(|p| p.map(|x| (x + 0.0).to_bits())));
+                    keys.dedup();
+                    if keys.len() > 1 && keys.first() == keys.last() {
+                        keys.pop();
+                    }
+                    if keys.len() < 3 {
                         continue;
                     }
-                    for p in &cell.polygon {
-                        corners.push(u32::try_from(coords.len() / 2).unwrap_or(u32::MAX));
-                        coords.extend_from_slice(p);
+                    for key in &keys {
+                        let next = u32::try_from(coords.len() / 2).unwrap_or(u32::MAX);
+                        let k = *point_of.entry(*key).or_insert_with(|| {
+                            coords.extend(key.map(f64::from_bits));
+                            next
+                        });
+                        corners.push(k);
                     }
                     ends.push(corners.len());
                     point_ids.push(cell.point as f64 + shift);

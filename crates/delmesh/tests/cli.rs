@@ -174,6 +174,25 @@ fn delaunay_2d_to_vtu_prints_the_summary() {
 }
 
 #[test]
+fn voronoi_regions_of_a_2d_lattice_share_their_corners() {
+    // A 6 × 6 grid: each region is the unit square around its point (clipped to the box half
+    // a spacing beyond the points), and neighbouring regions share their corners: the 7 × 7
+    // lattice of square corners, not four copies of each.
+    let dir = tempfile::tempdir().unwrap();
+    let grid: Vec<Vec<f64>> = (0..36)
+        .map(|k| vec![f64::from(k % 6), f64::from(k / 6)])
+        .collect();
+    write_node(dir.path(), "grid.node", 2, &grid, 1);
+    ok(&delmesh(
+        dir.path(),
+        &["delaunay", "grid.node", "-o", "g.vtu", "--voronoi", "v.vtu"],
+    ));
+    let xml = std::fs::read_to_string(dir.path().join("v.vtu")).unwrap();
+    assert!(xml.contains("NumberOfPoints=\"49\""), "{xml}");
+    assert!(xml.contains("NumberOfCells=\"36\""), "{xml}");
+}
+
+#[test]
 fn delaunay_2d_to_ele_numbers_from_the_input_first_index() {
     let dir = tempfile::tempdir().unwrap();
     write_node(dir.path(), "pts.node", 2, &points(2, 100), 1);
