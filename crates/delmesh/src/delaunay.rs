@@ -193,6 +193,11 @@ pub struct DelaunayRun {
     pub input: PathBuf,
     /// Wall-clock seconds spent building the triangulation (reading and writing excluded).
     pub build_seconds: f64,
+    /// The input points' attributes (per attribute, one value per input point), carried to
+    /// the outputs.
+    pub attributes: Vec<Vec<f64>>,
+    /// The input points' boundary markers, if the input has them, carried to the outputs.
+    pub markers: Option<Vec<i32>>,
 }
 
 /// Reads the points of `input` ([`delmesh_io::read_points`]: `.node` or plain `x y [z]` text)
@@ -250,6 +255,8 @@ impl DelaunayRun {
             first_index: points.first_index,
             input: input.to_path_buf(),
             build_seconds,
+            attributes: points.attributes.clone(),
+            markers: points.markers.clone(),
         })
     }
 
@@ -300,9 +307,10 @@ impl DelaunayRun {
     /// Writes the mesh to `out`, the format chosen by its extension ([`OutputFormat`]):
     ///
     /// - `.vtu`: all input points in input order and the cells (triangles or tetrahedra)
-    ///   indexing them;
-    /// - `.ele`: `X.node` (all input points), `X.ele` and `X.neigh` beside it, numbered from the
-    ///   input's first index as TetGen does.
+    ///   indexing them; the input's point attributes as point fields `attribute_1`, ... and its
+    ///   boundary markers as `marker`;
+    /// - `.ele`: `X.node` (all input points, with their attributes and markers), `X.ele` and
+    ///   `X.neigh` beside it, numbered from the input's first index as TetGen does.
     ///
     /// Returns the files written. Each file is replaced atomically.
     ///
@@ -329,13 +337,33 @@ impl DelaunayRun {
         };
         match format {
             OutputFormat::Vtu => {
-                delmesh_io::write_vtu(out, &mesh, &[], &[])?;
+                // The input's attributes and markers as point fields.
+                let names: Vec<String> = (1..=self.attributes.len())
+                    .map(|k| format!("attribute_{k}"))
+                    .collect();
+                let markers: Option<Vec<f64>> = self
+                    .markers
+                    .as_ref()
+                    .map(|m| m.iter().map(|&x| f64::from(x)).collect());
+                let mut fields: Vec<(&str, &[f64])> = names
+                    .iter()
+                    .map(String::as_str)
+                    .zip(self.attributes.iter().map(Vec::as_slice))
+                    .collect();
+                if let Some(m) = &markers {
+                    fields.push(("marker", m));
+                }
+                delmesh_io::write_vtu(out, &mesh, &fields, &[])?;
                 Ok(vec![out.to_path_buf()])
             }
-            OutputFormat::TetGen => Ok(delmesh_io::write_tetgen_family(
+            OutputFormat::TetGen => Ok(delmesh_io::write_tetgen_family_with(
                 &out.with_extension("ele"),
                 &mesh,
                 self.first_index,
+                &delmesh_io::NodeData {
+                    attributes: &self.attributes,
+                    markers: self.markers.as_deref(),
+                },
             )?),
         }
     }

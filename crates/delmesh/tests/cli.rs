@@ -232,6 +232,38 @@ fn delaunay_2d_to_ele_numbers_from_the_input_first_index() {
         .all(|&n| n == -1 || (1..=cells as i64).contains(&n))));
 }
 
+#[test]
+fn delaunay_carries_the_input_attributes_and_markers() {
+    // Triangle's `.node` with two attributes and boundary markers: both outputs keep them.
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = String::from("5 2 2 1\n");
+    for (i, (x, y)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0), (0.4, 0.6)]
+        .iter()
+        .enumerate()
+    {
+        let marker = i32::from(i < 4) * (i as i32 + 1);
+        text.push_str(&format!("{i} {x} {y} {} -{i}.5 {marker}\n", 10 * i));
+    }
+    std::fs::write(dir.path().join("pts.node"), text).unwrap();
+    ok(&delmesh(
+        dir.path(),
+        &["delaunay", "pts.node", "-o", "m.ele"],
+    ));
+    let node = std::fs::read_to_string(dir.path().join("m.node")).unwrap();
+    let rows: Vec<&str> = node.lines().collect();
+    assert_eq!(rows[0], "5 2 2 1");
+    assert_eq!(rows[3], "2 1 1 20 -2.5 3");
+    assert_eq!(rows[5], "4 0.4 0.6 40 -4.5 0");
+    ok(&delmesh(
+        dir.path(),
+        &["delaunay", "pts.node", "-o", "m.vtu"],
+    ));
+    let xml = std::fs::read_to_string(dir.path().join("m.vtu")).unwrap();
+    for name in ["attribute_1", "attribute_2", "marker"] {
+        assert!(xml.contains(&format!("Name=\"{name}\"")), "{name}: {xml}");
+    }
+}
+
 /// The header line and the first point's index of a `.node` file.
 fn int_rows_head(path: &Path) -> (String, String) {
     let text = std::fs::read_to_string(path).unwrap();

@@ -7,8 +7,8 @@
 //!
 //! | format | read | write |
 //! | --- | --- | --- |
-//! | TetGen/Triangle `.node` | [`read_node`], [`parse_node`] | [`write_node`] |
-//! | TetGen/Triangle `.ele`, `.neigh` | | [`write_ele`], [`write_neigh`], [`write_tetgen_family`] |
+//! | TetGen/Triangle `.node` | [`read_node`], [`parse_node`] | [`write_node`], [`write_node_with`] (attributes, markers) |
+//! | TetGen/Triangle `.ele`, `.neigh` | | [`write_ele`], [`write_neigh`], [`write_tetgen_family`], [`write_tetgen_family_with`] |
 //! | plain text `x y [z]` | [`read_xyz`], [`parse_xyz`] | |
 //! | VTK XML `.vtu` | [`read_vtu`] (every data mode VTK writes; linear cells as triangles/tetrahedra, point and cell fields as point fields) | [`write_vtu`], [`write_vtu_polygons`], [`write_tet_mesh_vtu`] (3D mesh + `.boundary.vtu`) |
 //! | legacy VTK `.vtk` (2.0–5.1, ASCII or binary) | [`read_vtk_legacy`] (as [`read_vtu`]) | |
@@ -87,7 +87,10 @@ pub use foam::{is_polymesh, write_foam, write_foam_2d, POLYMESH_FILES};
 pub use medit::{parse_medit, read_medit, write_medit};
 pub use model::{PointSet, SimplexMesh};
 pub use msh::{parse_msh, parse_msh_bytes, read_msh, write_msh, write_msh_2d};
-pub use node::{parse_node, read_node, write_ele, write_neigh, write_node, write_tetgen_family};
+pub use node::{
+    parse_node, read_node, write_ele, write_neigh, write_node, write_node_with,
+    write_tetgen_family, write_tetgen_family_with, NodeData,
+};
 pub use obj::{parse_obj, read_obj};
 pub use off::{parse_off, read_off, write_off};
 pub use ply::{parse_ply, read_ply};

@@ -219,10 +219,55 @@ pub fn write_node(
     coords: &[f64],
     first_index: u32,
 ) -> Result<(), IoError> {
+    write_node_with(path, dim, coords, first_index, &NodeData::default())
+}
+
+/// What a `.node` file carries besides the coordinates: per attribute one value per point,
+/// and a boundary marker per point if any (as [`PointSet`] holds them when read).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NodeData<'a> {
+    /// Per attribute, one value per point.
+    pub attributes: &'a [Vec<f64>],
+    /// A boundary marker per point, if any.
+    pub markers: Option<&'a [i32]>,
+}
+
+impl NodeData<'_> {
+    /// Errors unless every attribute and the markers have one value per point.
+    fn check(&self, path: &Path, n: usize) -> Result<(), IoError> {
+        if let Some(a) = self.attributes.iter().position(|a| a.len() != n) {
+            return Err(IoError::invalid(
+                path,
+                format!("attribute {} has not one value per point ({n})", a + 1),
+            ));
+        }
+        if self.markers.is_some_and(|m| m.len() != n) {
+            return Err(IoError::invalid(
+                path,
+                format!("the boundary markers are not one per point ({n})"),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// [`write_node`] with the points' attributes and boundary markers: header
+/// `<n> <dim> <#attributes> <0|1>`, then `<i> x y [z] [attributes] [marker]`.
+///
+/// # Errors
+/// As [`write_node`], or attributes or markers not one per point.
+pub fn write_node_with(
+    path: &Path,
+    dim: usize,
+    coords: &[f64],
+    first_index: u32,
+    data: &NodeData<'_>,
+) -> Result<(), IoError> {
     check_points(path, dim, coords)?;
     check_first_index(path, first_index)?;
+    data.check(path, coords.len() / dim)?;
     write_atomic(path, |w| {
-        node_body(w, dim, coords, first_index).map_err(|e| IoError::io(path, e))
+        node_body(w, dim, coords, first_index, data).map_err(|e| IoError::io(path, e))
     })
 }
 
@@ -231,14 +276,27 @@ fn node_body(
     dim: usize,
     coords: &[f64],
     first_index: u32,
+    data: &NodeData<'_>,
 ) -> std::io::Result<()> {
     let n = coords.len() / dim;
-    writeln!(w, "{n} {dim} 0 0")?;
+    writeln!(
+        w,
+        "{n} {dim} {} {}",
+        data.attributes.len(),
+        u8::from(data.markers.is_some())
+    )?;
     for (i, p) in coords.chunks_exact(dim).enumerate() {
         write!(w, "{}", i as u64 + u64::from(first_index))?;
         for &c in p {
             w.write_all(b" ")?;
             write_f64(w, c)?;
+        }
+        for a in data.attributes {
+            w.write_all(b" ")?;
+            write_f64(w, a[i])?;
+        }
+        if let Some(m) = data.markers {
+            write!(w, " {}", m[i])?;
         }
         w.write_all(b"\n")?;
     }
@@ -319,8 +377,23 @@ pub fn write_tetgen_family(
     mesh: &SimplexMesh<'_>,
     first_index: u32,
 ) -> Result<Vec<PathBuf>, IoError> {
+    write_tetgen_family_with(ele_path, mesh, first_index, &NodeData::default())
+}
+
+/// [`write_tetgen_family`] with the points' attributes and boundary markers in `X.node`
+/// (see [`write_node_with`]).
+///
+/// # Errors
+/// As [`write_tetgen_family`], or attributes or markers not one per point.
+pub fn write_tetgen_family_with(
+    ele_path: &Path,
+    mesh: &SimplexMesh<'_>,
+    first_index: u32,
+    data: &NodeData<'_>,
+) -> Result<Vec<PathBuf>, IoError> {
     mesh.check(ele_path)?;
     check_first_index(ele_path, first_index)?;
+    data.check(ele_path, mesh.n_points())?;
     let base = if ele_path.extension().is_some_and(|e| e == "ele") {
         ele_path.with_extension("")
     } else {
@@ -340,7 +413,7 @@ pub fn write_tetgen_family(
     }
     // Replaced together or not at all.
     transaction(|| {
-        write_node(&written[0], mesh.dim, mesh.coords, first_index)?;
+        write_node_with(&written[0], mesh.dim, mesh.coords, first_index, data)?;
         write_ele(&written[1], mesh, first_index)?;
         match written.get(2) {
             Some(neigh) => write_neigh(neigh, mesh, first_index),
