@@ -264,6 +264,41 @@ fn delaunay_carries_the_input_attributes_and_markers() {
     }
 }
 
+#[cfg(target_os = "linux")]
+#[test]
+fn a_spacing_needing_more_memory_than_is_left_is_refused_at_once() {
+    // A 2 × 1 rectangle and a background spacing of 1e-4 everywhere: about 4.6e8 triangles,
+    // fewer than can be indexed (2^30) but far more than fit in the 2 GB address space the
+    // run is given: refused before generation starts, not aborted when an allocation fails.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("domain.poly"),
+        "4 2 0 0\n1 0 0\n2 2 0\n3 2 1\n4 0 1\n4 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 1 1\n0\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("bg.node"),
+        "4 2 1 0\n1 -1 -1 1e-4\n2 3 -1 1e-4\n3 3 2 1e-4\n4 -1 2 1e-4\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("bg.ele"), "2 3 0\n1 1 2 3\n2 1 3 4\n").unwrap();
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v 2000000 && exec '{}' mesh domain.poly -o m.vtu --background bg.ele",
+            env!("CARGO_BIN_EXE_delmesh")
+        ))
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let msg = fails(&out);
+    assert!(
+        msg.contains("asks for about 4.6e8 elements") && msg.contains("this process has left"),
+        "{msg}"
+    );
+    assert!(!dir.path().join("m.vtu").exists());
+}
+
 /// The header line and the first point's index of a `.node` file.
 fn int_rows_head(path: &Path) -> (String, String) {
     let text = std::fs::read_to_string(path).unwrap();

@@ -32,9 +32,11 @@
 //! A spacing field may ask for more elements than 32-bit indices hold (a background mesh with
 //! a spacing of 1e-300): each pass estimates the elements its candidates' spacing asks for in
 //! their own elements, and over 2^30 the run stops with [`PointGenError::SpacingTooFine`]
-//! rather than when memory runs out (the same in 3D).
+//! rather than when memory runs out (the same in 3D); and with
+//! [`PointGenError::NotEnoughMemory`] if they need more memory than the process has left.
 
 use crate::area::{area, points};
+use crate::memory::{elements_fitting, BYTES_PER_TRIANGLE};
 use crate::SpacingField;
 use delmesh_boundary_recovery::Mesh2;
 use delmesh_delaunay_core::{CellId, ConstraintError, Dim, Insertion, VertexId, D2};
@@ -107,6 +109,25 @@ pub enum PointGenError {
         /// The finest distance between points they ask for (α times the finest spacing).
         spacing: f64,
     },
+    /// The spacing field asks for more elements than fit in the memory left to the process.
+    #[error(
+        "the spacing field asks for {} elements (alpha × spacing down to {spacing:.3e}), \
+         which need at least {} of memory, more than the {} this process has left; give a \
+         larger (minimum) spacing or alpha",
+        about(*.elements),
+        crate::memory::size(*.bytes),
+        crate::memory::size(*.available)
+    )]
+    NotEnoughMemory {
+        /// Elements the candidates of one pass ask for, at least about.
+        elements: f64,
+        /// The finest distance between points they ask for (α times the finest spacing).
+        spacing: f64,
+        /// The memory they need at least.
+        bytes: f64,
+        /// The memory left (the system's available memory, or the process's limits).
+        available: f64,
+    },
     /// A 3D candidate could not be inserted (a bad coordinate).
     #[error(transparent)]
     Insertion3(#[from] delmesh_delaunay_core::TriangulationError),
@@ -130,6 +151,33 @@ fn about(n: f64) -> String {
         format!("about {n:.1e}")
     } else {
         "more than 1e308".to_string()
+    }
+}
+
+/// The error for a spacing field whose candidates ask for `asked` elements (points `finest`
+/// apart) if that is more than can be indexed, or than fit in `memory` at `bytes_each`.
+pub(crate) fn too_many(
+    asked: f64,
+    finest: f64,
+    memory: Option<f64>,
+    bytes_each: f64,
+) -> Result<(), PointGenError> {
+    if asked > MAX_ELEMENTS {
+        return Err(PointGenError::SpacingTooFine {
+            elements: asked,
+            spacing: finest,
+        });
+    }
+    match memory {
+        Some(available) if asked > elements_fitting(memory, bytes_each) => {
+            Err(PointGenError::NotEnoughMemory {
+                elements: asked,
+                spacing: finest,
+                bytes: asked * bytes_each,
+                available,
+            })
+        }
+        _ => Ok(()),
     }
 }
 
@@ -259,6 +307,9 @@ impl PointGeneration {
         // The element count at the last renumbering (see `RENUMBER_MIN`).
         let mut renumbered = elements;
         let domain_area = mesh.area();
+        // The memory left now, and the triangles it holds (see `too_many`).
+        let memory = crate::memory::available();
+        let fitting = elements_fitting(memory, BYTES_PER_TRIANGLE);
         while report.passes.len() < self.max_passes && added < self.max_points {
             let previous = mesh.cdt.changed_in_epoch();
             let epoch = mesh.cdt.next_epoch(true);
@@ -313,7 +364,7 @@ impl PointGeneration {
             // that many over the whole domain.
             // (Points go α·h apart: a tiny α asks for as many as a tiny spacing.)
             let finest = self.alpha * todo.iter().fold(f64::INFINITY, |m, t| m.min(t.2));
-            if triangles_in(domain_area, finest) > MAX_ELEMENTS {
+            if triangles_in(domain_area, finest) > fitting.min(MAX_ELEMENTS) {
                 let mesh: &Mesh2 = mesh;
                 let asked: f64 = todo
                     .par_iter()
@@ -321,12 +372,7 @@ impl PointGeneration {
                         triangles_in(area(points(mesh, CellId(key as u32))), self.alpha * h)
                     })
                     .sum();
-                if asked > MAX_ELEMENTS {
-                    return Err(PointGenError::SpacingTooFine {
-                        elements: asked,
-                        spacing: finest,
-                    });
-                }
+                too_many(asked, finest, memory, BYTES_PER_TRIANGLE)?;
             }
             // (Sorting (key, position) pairs instead moves less memory in the sort, but the
             // insertions then read the candidates out of order: no faster, measured.)

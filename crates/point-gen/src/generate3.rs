@@ -22,6 +22,7 @@
 //! one's neighbour, and the count of points stays that of visiting the slots in order (which
 //! it was before, and which missed the cache on nearly every conflict test).
 
+use crate::memory::BYTES_PER_TETRAHEDRON;
 use crate::volume::{points, tet_volume};
 use crate::{PointGenError, SpacingField3, RENUMBER_MIN};
 use delmesh_boundary_recovery::{Mesh3, OUTSIDE};
@@ -148,6 +149,9 @@ impl PointGeneration3 {
         let mut added = 0usize;
         let mut cells: Vec<CellId> = mesh.elements().collect();
         let domain_volume = mesh.volume();
+        // The memory left now, and the tetrahedra it holds (see `generate::too_many`).
+        let memory = crate::memory::available();
+        let fitting = crate::memory::elements_fitting(memory, BYTES_PER_TETRAHEDRON);
         // The cell slots made in the current pass (a slot freed and reused counts once).
         let mut made: Vec<bool> = Vec::new();
         while report.passes.len() < self.max_passes && added < self.max_points {
@@ -175,7 +179,7 @@ impl PointGeneration3 {
                     Candidate3::At { h, .. } => m.min(h),
                     _ => m,
                 });
-            if tetrahedra_in(domain_volume, finest) > crate::generate::MAX_ELEMENTS {
+            if tetrahedra_in(domain_volume, finest) > fitting.min(crate::generate::MAX_ELEMENTS) {
                 let mesh: &Mesh3 = mesh;
                 let asked: f64 = looked
                     .par_iter()
@@ -187,12 +191,7 @@ impl PointGeneration3 {
                         _ => None,
                     })
                     .sum();
-                if asked > crate::generate::MAX_ELEMENTS {
-                    return Err(PointGenError::SpacingTooFine {
-                        elements: asked,
-                        spacing: finest,
-                    });
-                }
+                crate::generate::too_many(asked, finest, memory, BYTES_PER_TETRAHEDRON)?;
             }
             let (mut accepted, mut refused) = (0, 0);
             for &(key, early) in &looked {

@@ -11,6 +11,7 @@ mod area;
 mod distance;
 mod generate;
 mod generate3;
+mod memory;
 mod refine;
 mod refine3;
 mod spacing;
