@@ -1,7 +1,8 @@
 //! Input checks of a [`Plc2`]: everything later stages rely on, reported in the user's numbering.
 //!
 //! - coordinates are finite; duplicate points are merged (segments use the first occurrence);
-//! - segment end points exist and differ; repeated segments are dropped;
+//! - segment end points exist and differ; repeated segments are dropped (a repeat's marker
+//!   must be the first's, or one of them 0: different markers are an error naming both);
 //! - a point lying inside a segment splits it there (as Triangle does), so the segment can be
 //!   recovered at all; collinear segments that overlap are thereby split into shared pieces,
 //!   each kept once;
@@ -27,6 +28,22 @@ pub(crate) struct CheckedPlc {
     pub(crate) origin: Vec<u32>,
     /// Points that repeat an earlier one exactly: (duplicate, first occurrence), 0-based.
     pub(crate) merged: Vec<(u32, u32)>,
+}
+
+/// The marker of a segment given twice (or of a piece two overlapping segments share), from
+/// each occurrence's marker and number: the same, or the one that is not 0 (none); two
+/// different markers are an error naming both segments.
+fn agreed_marker(first: (i32, u64), repeat: (i32, u64)) -> Result<i32, RecoveryError> {
+    match (first.0, repeat.0) {
+        (m, n) if m == n || n == 0 => Ok(m),
+        (0, n) => Ok(n),
+        (m, n) => Err(RecoveryError::ConflictingMarkers {
+            first: first.1,
+            second: repeat.1,
+            first_marker: m,
+            second_marker: n,
+        }),
+    }
 }
 
 /// A uniform grid of buckets over a bounding box.
@@ -203,7 +220,8 @@ pub(crate) fn check(plc: &Plc2, geometric: bool) -> Result<CheckedPlc, RecoveryE
 
     let mut segments = Vec::with_capacity(plc.segments.len());
     let mut origin = Vec::with_capacity(plc.segments.len());
-    let mut seen: HashMap<(u32, u32), ()> =
+    // Each segment's first occurrence (its index in `segments`).
+    let mut seen: HashMap<(u32, u32), usize> =
         HashMap::with_capacity_and_hasher(plc.segments.len(), Default::default());
     for (i, s) in plc.segments.iter().enumerate() {
         for e in [s.a, s.b] {
@@ -223,9 +241,15 @@ pub(crate) fn check(plc: &Plc2, geometric: bool) -> Result<CheckedPlc, RecoveryE
                 b: u64::from(s.b) + base,
             });
         }
-        if seen.insert((a.min(b), a.max(b)), ()).is_some() {
+        if let Some(&k) = seen.get(&(a.min(b), a.max(b))) {
+            let first: &mut Segment = &mut segments[k];
+            first.marker = agreed_marker(
+                (first.marker, name(origin[k] as usize)),
+                (s.marker, name(i)),
+            )?;
             continue;
         }
+        seen.insert((a.min(b), a.max(b)), segments.len());
         segments.push(Segment {
             a,
             b,
@@ -308,12 +332,22 @@ pub(crate) fn check(plc: &Plc2, geometric: bool) -> Result<CheckedPlc, RecoveryE
             });
             split_origin.push(origin[si]);
         }
-        // Collinear segments that overlap now share pieces: keep the first of each.
+        // Collinear segments that overlap now share pieces: keep the first of each, with the
+        // markers agreeing as for repeats.
         seen.clear();
-        let keep: Vec<bool> = split_segments
-            .iter()
-            .map(|s| seen.insert((s.a.min(s.b), s.a.max(s.b)), ()).is_none())
-            .collect();
+        let mut keep = vec![true; split_segments.len()];
+        for j in 0..split_segments.len() {
+            let s = split_segments[j];
+            let Some(&k) = seen.get(&(s.a.min(s.b), s.a.max(s.b))) else {
+                seen.insert((s.a.min(s.b), s.a.max(s.b)), j);
+                continue;
+            };
+            keep[j] = false;
+            split_segments[k].marker = agreed_marker(
+                (split_segments[k].marker, name(split_origin[k] as usize)),
+                (s.marker, name(split_origin[j] as usize)),
+            )?;
+        }
         segments = split_segments
             .into_iter()
             .zip(&keep)

@@ -35,6 +35,21 @@ pub enum RecoveryError {
         /// Second end.
         b: u64,
     },
+    /// The same segment is given twice with different boundary markers (which one the edge
+    /// carries would be a guess).
+    #[error(
+        "segments {first} and {second} join the same points with different markers ({first_marker} and {second_marker})"
+    )]
+    ConflictingMarkers {
+        /// The first occurrence.
+        first: u64,
+        /// The repeat.
+        second: u64,
+        /// The first's marker.
+        first_marker: i32,
+        /// The repeat's marker.
+        second_marker: i32,
+    },
     /// Two segments cross or overlap.
     #[error("segments {first} and {second} intersect (they may only meet at shared end points)")]
     Crossing {

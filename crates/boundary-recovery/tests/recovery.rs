@@ -299,6 +299,60 @@ fn crossing_segments_are_named() {
 }
 
 #[test]
+fn a_segment_given_twice_keeps_one_marker_or_is_an_error() {
+    let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
+    plc.first_index = 1;
+    let first = plc.segments[0];
+    // Repeated reversed, without a marker, then with the same: one edge, the first's marker.
+    for marker in [0, first.marker] {
+        plc.segments.push(Segment {
+            a: first.b,
+            b: first.a,
+            marker,
+        });
+    }
+    let mesh = BoundaryRecovery::default().run(&plc).unwrap();
+    assert_eq!(mesh.edges.len(), 4);
+    assert!(mesh.edges.iter().all(|e| e.marker == first.marker));
+    // With another marker: which one the edge carries would be a guess.
+    plc.segments.push(Segment {
+        marker: first.marker + 6,
+        ..first
+    });
+    let err = BoundaryRecovery::default().run(&plc).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        format!(
+            "segments 1 and 7 join the same points with different markers ({} and {})",
+            first.marker,
+            first.marker + 6
+        )
+    );
+    // A collinear segment overlapping half of the bottom side with another marker: the piece
+    // they share is named by both.
+    let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
+    plc.points.push([0.0, -2.0]);
+    plc.segments.push(Segment {
+        a: 0,
+        b: 4,
+        marker: 9,
+    });
+    let err = BoundaryRecovery::default().run(&plc).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            RecoveryError::ConflictingMarkers {
+                first: 0,
+                second: 4,
+                second_marker: 9,
+                ..
+            }
+        ),
+        "{err}"
+    );
+}
+
+#[test]
 fn bad_input_is_reported() {
     let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
     plc.segments.push(Segment {
