@@ -34,6 +34,7 @@ use delmesh_point_gen::{
 };
 use delmesh_predicates::{orient2d, Sign};
 use delmesh_smoothing::{QualityReport, SmoothStats, Smoother, Stars};
+use rayon::prelude::*;
 
 use crate::sources::check_sources2;
 use crate::{units, Error};
@@ -117,6 +118,9 @@ pub struct MeshRun2 {
     /// Elements still larger than their region's area limit at the end: generation's
     /// `max_points` ran out before they were split; 0 without limits.
     pub area_limit_exceeded: usize,
+    /// Input points outside the background mesh (they took the spacing of its nearest
+    /// point): a background for another domain, or in other units, is a likely mistake.
+    pub outside_background: usize,
     /// Quality of the final mesh.
     pub quality: QualityReport,
     /// Seconds spent in each stage, in order.
@@ -251,6 +255,12 @@ fn mesh_plc_as_given(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Err
         None => None,
     };
     let area_limit_exceeded = limits.as_ref().map_or(0, |l| l.too_large(&mesh).len());
+    let outside_background = match (&options.spacing, &options.generation) {
+        (Spacing::Background(bg), Some(_)) => {
+            plc.points.par_iter().filter(|&&p| !bg.covers(p)).count()
+        }
+        _ => 0,
+    };
     let arrays = mesh.to_arrays();
     let quality = QualityReport::of_mesh(&arrays.coords, &arrays.triangles, &arrays.neighbours);
     lap("quality and output arrays", &mut timings);
@@ -264,6 +274,7 @@ fn mesh_plc_as_given(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Err
         refined,
         area_limited,
         area_limit_exceeded,
+        outside_background,
         quality,
         timings,
     })
@@ -522,6 +533,14 @@ impl MeshRun2 {
                 ));
             }
         }
+        if self.outside_background > 0 {
+            s.push_str(&format!(
+                "warning: {} input points lie outside the background mesh (they take the \
+                 spacing of its nearest point): is it a mesh of this domain, in the same \
+                 units?\n",
+                self.outside_background
+            ));
+        }
         if let Some(st) = &self.smoothing {
             s.push_str(&format!("smoothing: {st}\n"));
             s.push_str(&format!("delaunay flips after smoothing: {}\n", self.flips));
@@ -577,7 +596,7 @@ impl MeshRun2 {
             .collect::<Vec<_>>()
             .join(", ");
         format!(
-            "{{\n  \"points\": {},\n  \"triangles\": {},\n  \"boundary_edges\": {},\n  \"recovery\": {{\"method\": \"{:?}\", \"duplicates_merged\": {}, \"passes\": {recovery}}},\n  \"generation\": {generation},\n  \"flips_after_smoothing\": {},\n  \"area_limit_points\": {},\n  \"quality\": {},\n  \"seconds\": {{{timings}}}\n}}\n",
+            "{{\n  \"points\": {},\n  \"triangles\": {},\n  \"boundary_edges\": {},\n  \"recovery\": {{\"method\": \"{:?}\", \"duplicates_merged\": {}, \"passes\": {recovery}}},\n  \"generation\": {generation},\n  \"flips_after_smoothing\": {},\n  \"area_limit_points\": {},\n  \"area_limit_exceeded\": {},\n  \"points_outside_background\": {},\n  \"quality\": {},\n  \"seconds\": {{{timings}}}\n}}\n",
             self.arrays.coords.len(),
             self.arrays.triangles.len(),
             self.arrays.edges.len(),
@@ -586,6 +605,8 @@ impl MeshRun2 {
             self.flips,
             self.area_limited
                 .map_or_else(|| "null".to_string(), |n| n.to_string()),
+            self.area_limit_exceeded,
+            self.outside_background,
             self.quality.to_json()
         )
     }

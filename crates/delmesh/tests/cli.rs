@@ -299,6 +299,41 @@ fn a_spacing_needing_more_memory_than_is_left_is_refused_at_once() {
     assert!(!dir.path().join("m.vtu").exists());
 }
 
+#[test]
+fn a_background_mesh_beside_the_domain_is_warned_about() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("domain.poly"),
+        "4 2 0 0\n1 0 0\n2 2 0\n3 2 1\n4 0 1\n4 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 1 1\n0\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("bg.ele"), "2 3 0\n1 1 2 3\n2 1 3 4\n").unwrap();
+    let warning = "warning: 4 input points lie outside the background mesh";
+    // Over the domain (its corners on the background's edges): no warning.
+    for (x0, x1, y0, y1, warned) in [(0, 2, 0, 1, false), (5, 6, 5, 6, true)] {
+        std::fs::write(
+            dir.path().join("bg.node"),
+            format!(
+                "4 2 1 0\n1 {x0} {y0} 0.2\n2 {x1} {y0} 0.2\n3 {x1} {y1} 0.2\n4 {x0} {y1} 0.2\n"
+            ),
+        )
+        .unwrap();
+        let out = delmesh(
+            dir.path(),
+            &[
+                "mesh",
+                "domain.poly",
+                "-o",
+                "m.vtu",
+                "--background",
+                "bg.ele",
+            ],
+        );
+        let summary = ok(&out);
+        assert_eq!(summary.contains(warning), warned, "{summary}");
+    }
+}
+
 /// The header line and the first point's index of a `.node` file.
 fn int_rows_head(path: &Path) -> (String, String) {
     let text = std::fs::read_to_string(path).unwrap();

@@ -352,6 +352,26 @@ impl BackgroundMesh2 {
             + l[2] * self.spacing[t[2] as usize]
     }
 
+    /// Whether `p` lies in a triangle of the mesh (or on one, up to rounding): where it does
+    /// not, [`Self::spacing_at`] takes the value of the nearest point of the mesh.
+    pub fn covers(&self, p: [f64; 2]) -> bool {
+        let inside_grid = (0..2).all(|k| {
+            let c = (p[k] - self.lo[k]) * self.inv[k];
+            c >= 0.0 && c <= self.dims[k] as f64
+        });
+        if !inside_grid {
+            return false;
+        }
+        // Every triangle whose box holds `p` is listed in `p`'s cell.
+        let c = self.cell(p[1], 1) * self.dims[0] + self.cell(p[0], 0);
+        self.items[self.start[c] as usize..self.start[c + 1] as usize]
+            .iter()
+            .any(|&k| {
+                let l = self.barycentric(k as usize, p);
+                l[0].min(l[1]).min(l[2]) >= -1e-9
+            })
+    }
+
     /// The spacing at `p`: barycentric interpolation in the triangle containing it; outside
     /// the mesh, the value at the nearest point of the nearest triangle found near `p`.
     pub fn spacing_at(&self, p: [f64; 2]) -> f64 {
