@@ -318,16 +318,24 @@ fn delaunay(args: &DelaunayArgs) -> Result<()> {
         eprintln!("validation: ok ({:.3} s)", t0.elapsed().as_secs_f64());
     }
     // The mesh and its Voronoi diagram are replaced together or not at all.
+    let mut polygons = None;
     let written = delmesh::io::transaction(|| {
         let mut written = run.write(&args.output)?;
         if let Some(voronoi) = &args.voronoi {
-            run.write_voronoi(voronoi)?;
+            polygons = Some(run.write_voronoi(voronoi)?);
             written.push(voronoi.clone());
         }
         anyhow::Ok(written)
     })?;
     if !args.quiet {
         print_written(&written);
+    }
+    if polygons == Some(0) {
+        // (3D: every point on the hull; the file is valid VTK with no cell.)
+        eprintln!(
+            "warning: the Voronoi file holds no polygon: no point lies strictly inside the \
+             convex hull, so no Voronoi region is bounded"
+        );
     }
     Ok(())
 }

@@ -334,6 +334,30 @@ fn a_background_mesh_beside_the_domain_is_warned_about() {
     }
 }
 
+#[test]
+fn an_empty_3d_voronoi_file_is_warned_about() {
+    // An octahedron's six points are all on the hull: no bounded Voronoi region.
+    let dir = tempfile::tempdir().unwrap();
+    let octahedron: Vec<Vec<f64>> = (0..6)
+        .map(|k| {
+            let mut p = vec![0.0; 3];
+            p[k % 3] = if k < 3 { 1.0 } else { -1.0 };
+            p
+        })
+        .collect();
+    write_node(dir.path(), "o.node", 3, &octahedron, 1);
+    let out = delmesh(
+        dir.path(),
+        &["delaunay", "o.node", "-o", "o.vtu", "--voronoi", "v.vtu"],
+    );
+    ok(&out);
+    assert!(
+        stderr(&out).contains("warning: the Voronoi file holds no polygon"),
+        "{}",
+        stderr(&out)
+    );
+}
+
 /// The header line and the first point's index of a `.node` file.
 fn int_rows_head(path: &Path) -> (String, String) {
     let text = std::fs::read_to_string(path).unwrap();
