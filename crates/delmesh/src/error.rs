@@ -125,7 +125,7 @@ pub enum Error {
         source: SpacingError3,
     },
     /// A background or solution file lacks the point field asked for.
-    #[error("{file}: no point field '{field}' (fields: {available})", file = .file.display())]
+    #[error("{file}: no point field '{field}' (fields: {available}; --field names the one to use)", file = .file.display())]
     MissingField {
         /// The file.
         file: PathBuf,

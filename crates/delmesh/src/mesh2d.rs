@@ -639,7 +639,16 @@ fn min_angles(a: &MeshArrays) -> Vec<f64> {
 /// The file cannot be read, has no such field, or its values are not valid spacings.
 pub fn read_background(path: &Path, field: Option<&str>) -> Result<BackgroundMesh2, Error> {
     let ((points, triangles, values), at) = read_field(path, field.unwrap_or("spacing"))?;
-    BackgroundMesh2::new(points, triangles, values).map_err(|e| spacing_error(e, at))
+    BackgroundMesh2::new(points, triangles, values).map_err(|e| match e {
+        // About the cells: named by the cells' file (a `.ele` beside its `.node`).
+        SpacingError::Empty | SpacingError::Degenerate(_) | SpacingError::BadNode { .. } => {
+            Error::Spacing {
+                file: path.to_path_buf(),
+                source: e,
+            }
+        }
+        e => spacing_error(e, at),
+    })
 }
 
 /// A bad background or solution mesh, its node named as the file that holds it numbers it

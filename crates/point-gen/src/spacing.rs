@@ -43,8 +43,8 @@ pub enum SpacingError {
         /// Largest spacing.
         max: f64,
     },
-    /// The mesh has no triangle.
-    #[error("the background mesh has no triangle")]
+    /// The mesh has no triangle (of nonzero area: those of no area are left out).
+    #[error("the background mesh has no triangle of nonzero area")]
     Empty,
 }
 
