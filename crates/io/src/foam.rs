@@ -14,14 +14,16 @@
 //! cannot hold, such as spaces, replaced by `_`) or `marker_<m>`, of type
 //! `patch` (the case's boundary conditions say what each is); boundary faces without a
 //! triangle go to a last patch, `defaultFaces`. A boundary triangle between two tetrahedra
-//! (a wall between regions) is an internal face: OpenFOAM's boundary is only the domain's.
+//! (a wall between regions) is an internal face: OpenFOAM's boundary is only the domain's;
+//! such marked internal faces are kept as face zones, one per marker, named as the patches.
 //! Regions, when the tetrahedra have more than one, are cell zones `region_<r>`.
 //!
 //! 2D ([`write_foam_2d`]): OpenFOAM meshes are 3D; a 2D case is one layer of cells between two
 //! planes whose patch is of type `empty`. Each triangle becomes a prism from z = 0 to z = the
 //! mean edge length (cells about as deep as wide); the boundary edges become the quadrilateral
 //! faces of patches `marker_<m>` (`defaultFaces` for those without a marker; a marked edge
-//! between two triangles, such as a wake line, is an internal face), and the two planes the
+//! between two triangles, such as a wake line, is an internal face in the face zone
+//! `marker_<m>`), and the two planes the
 //! patch `frontAndBack`; regions are cell zones as in 3D.
 
 use std::collections::HashMap;
@@ -34,14 +36,16 @@ use crate::text::{format_f64, write_f64, write_u64};
 use crate::triangle::TriangleMeshOut;
 use crate::IoError;
 
-/// The files a polyMesh directory holds (`cellZones` only with two or more regions).
-pub const POLYMESH_FILES: [&str; 6] = [
+/// The files a polyMesh directory holds (`cellZones` only with two or more regions,
+/// `faceZones` only with marked internal faces).
+pub const POLYMESH_FILES: [&str; 7] = [
     "points",
     "faces",
     "owner",
     "neighbour",
     "boundary",
     "cellZones",
+    "faceZones",
 ];
 
 /// Whether `path` names an OpenFOAM polyMesh directory (its last component is `polyMesh`): the
@@ -92,6 +96,8 @@ struct PolyMesh {
     patches: Vec<(Patch, usize)>,
     /// Cell zones: a name and the cells.
     zones: Vec<(String, Vec<u32>)>,
+    /// Face zones: a name and the (internal) faces.
+    face_zones: Vec<(String, Vec<u32>)>,
 }
 
 /// The faces of the cells, each packed as `key << 32 | slot`: `key` the face's points, sorted
@@ -103,9 +109,9 @@ struct FaceSet {
     per_cell: u32,
 }
 
-/// Internal faces as the slots of their two sides (the owner's first), and boundary faces as
-/// key and slot.
-type Paired = (Vec<(u32, u32)>, Vec<(u128, u32)>);
+/// Internal faces as their key and the slots of their two sides (the owner's first), and
+/// boundary faces as key and slot.
+type Paired = (Vec<(u128, u32, u32)>, Vec<(u128, u32)>);
 
 impl FaceSet {
     /// Room for `n_cells` cells of `per_cell` faces; `None` if the slots do not fit 32 bits.
@@ -129,7 +135,7 @@ impl FaceSet {
         for group in self.packed.chunk_by(|a, b| a >> 32 == b >> 32) {
             match *group {
                 [one] => boundary.push((one >> 32, one as u32)),
-                [a, b] if cell(a) != cell(b) => internal.push((a as u32, b as u32)),
+                [a, b] if cell(a) != cell(b) => internal.push((a >> 32, a as u32, b as u32)),
                 _ => {
                     let cells: Vec<String> = group.iter().map(|&x| cell(x).to_string()).collect();
                     return Err(IoError::invalid(
@@ -146,20 +152,24 @@ impl FaceSet {
     }
 }
 
+/// Faces, owners, neighbours, each patch's face count and the internal faces' keys (see
+/// [`in_order`]).
+type FacesInOrder = (Vec<Face>, Vec<u32>, Vec<u32>, Vec<usize>, Vec<u128>);
+
 /// The polyMesh order: internal faces by owner and neighbour, then boundary faces by patch
-/// (`patch_of` their key) and owner; `face` gives a slot's face. Faces, owners, neighbours and
-/// each patch's face count.
+/// (`patch_of` their key) and owner; `face` gives a slot's face. Faces, owners, neighbours,
+/// each patch's face count, and the internal faces' keys in order.
 fn in_order(
     (internal, boundary): Paired,
     per_cell: u32,
     n_patches: usize,
     patch_of: impl Fn(u128) -> usize,
     face: impl Fn(u32) -> Face,
-) -> (Vec<Face>, Vec<u32>, Vec<u32>, Vec<usize>) {
+) -> FacesInOrder {
     // Sorted by key: the pairs are not in cell order yet.
-    let mut internal: Vec<(u32, u32, u32)> = internal
+    let mut internal: Vec<(u32, u32, u32, u128)> = internal
         .into_iter()
-        .map(|(a, b)| (a / per_cell, b / per_cell, a))
+        .map(|(k, a, b)| (a / per_cell, b / per_cell, a, k))
         .collect();
     internal.sort_unstable();
     let mut boundary: Vec<(usize, u32)> = boundary
@@ -171,26 +181,37 @@ fn in_order(
     let mut faces = Vec::with_capacity(internal.len() + boundary.len());
     let mut owner = Vec::with_capacity(faces.capacity());
     let mut neighbour = Vec::with_capacity(internal.len());
-    for (a, b, slot) in internal {
+    let mut keys = Vec::with_capacity(internal.len());
+    for (a, b, slot, k) in internal {
         faces.push(face(slot));
         owner.push(a);
         neighbour.push(b);
+        keys.push(k);
     }
     for (p, slot) in boundary {
         counts[p] += 1;
         faces.push(face(slot));
         owner.push(slot / per_cell);
     }
-    (faces, owner, neighbour, counts)
+    (faces, owner, neighbour, counts, keys)
 }
 
-/// Patches, faces, owners, neighbours and each patch's face count (see [`order_faces`]).
-type Ordered = (Vec<Patch>, Vec<Face>, Vec<u32>, Vec<u32>, Vec<usize>);
+/// Patches, faces, owners, neighbours, each patch's face count and the face zones (see
+/// [`order_faces`]).
+type Ordered = (
+    Vec<Patch>,
+    Vec<Face>,
+    Vec<u32>,
+    Vec<u32>,
+    Vec<usize>,
+    Vec<(String, Vec<u32>)>,
+);
 
 /// The faces of `set` in polyMesh order with their patches: one per marker of the boundary
 /// faces (`marker` by key, in increasing order, named by `name`), then `defaultFaces` if some
-/// boundary face has no marker. `face` gives a slot's face. Patches, faces, owners, neighbours
-/// and each patch's face count.
+/// boundary face has no marker. `face` gives a slot's face. Patches, faces, owners, neighbours,
+/// each patch's face count, and a face zone per marker of internal faces (a wall between
+/// regions, a wake), named as the patches are.
 fn order_faces(
     dir: &Path,
     set: FaceSet,
@@ -208,14 +229,28 @@ fn order_faces(
     markers.sort_unstable();
     markers.dedup();
     let unmarked = paired.1.iter().any(|(k, _)| !marker.contains_key(k));
-    let patches = patches(&markers, name, unmarked);
+    let patches = patches(&markers, &name, unmarked);
     let patch_of = |k: u128| match marker.get(&k) {
         Some(m) => markers.binary_search(m).expect("a marker of the list"),
         None => markers.len(),
     };
-    let (faces, owner, neighbour, counts) =
+    let (faces, owner, neighbour, counts, keys) =
         in_order(paired, per_cell, patches.len(), patch_of, face);
-    Ok((patches, faces, owner, neighbour, counts))
+    let mut zoned: Vec<(i32, u32)> = keys
+        .iter()
+        .enumerate()
+        .filter_map(|(f, k)| marker.get(k).map(|&m| (m, f as u32)))
+        .collect();
+    zoned.sort_unstable();
+    let mut inner: Vec<i32> = zoned.iter().map(|z| z.0).collect();
+    inner.dedup();
+    // (Named as patches are, without `defaultFaces`: an unmarked internal face is no zone's.)
+    let face_zones = self::patches(&inner, &name, false)
+        .into_iter()
+        .zip(zoned.chunk_by(|a, b| a.0 == b.0))
+        .map(|(p, run)| (p.name, run.iter().map(|z| z.1).collect()))
+        .collect();
+    Ok((patches, faces, owner, neighbour, counts, face_zones))
 }
 
 /// The key of a face through points `v`: sorted, 32 bits each.
@@ -339,7 +374,7 @@ pub fn write_foam(dir: &Path, mesh: &TetMeshOut<'_>) -> Result<Vec<PathBuf>, IoE
         .zip(mesh.face_markers)
         .map(|(f, &m)| (key(f), m))
         .collect();
-    let (patches, faces, owner, neighbour, counts) =
+    let (patches, faces, owner, neighbour, counts, face_zones) =
         order_faces(dir, set, &marker, |m| mesh.marker_name(m), face)?;
     write_poly_mesh(
         dir,
@@ -351,6 +386,7 @@ pub fn write_foam(dir: &Path, mesh: &TetMeshOut<'_>) -> Result<Vec<PathBuf>, IoE
             neighbour,
             patches: patches.into_iter().zip(counts).collect(),
             zones: zones(mesh.regions),
+            face_zones,
         },
     )
 }
@@ -413,7 +449,7 @@ pub fn write_foam_2d(dir: &Path, mesh: &TriangleMeshOut<'_>) -> Result<Vec<PathB
         .zip(mesh.edge_markers)
         .map(|(e, &m)| (key(e), m))
         .collect();
-    let (mut patches, mut faces, mut owner, neighbour, mut counts) =
+    let (mut patches, mut faces, mut owner, neighbour, mut counts, face_zones) =
         order_faces(dir, set, &marker, |m| format!("marker_{m}"), face)?;
     // The two planes: the bottom turned down, the top up.
     for (cell, t) in triangles.iter().enumerate() {
@@ -443,6 +479,7 @@ pub fn write_foam_2d(dir: &Path, mesh: &TriangleMeshOut<'_>) -> Result<Vec<PathB
             neighbour,
             patches: patches.into_iter().zip(counts).collect(),
             zones: zones(mesh.cell_attributes),
+            face_zones,
         },
     )
 }
@@ -562,6 +599,33 @@ fn write_poly_mesh(dir: &Path, mesh: &PolyMesh) -> Result<Vec<PathBuf>, IoError>
                     for &c in cells {
                         write_u64(w, u64::from(c))?;
                         w.write_all(b"\n")?;
+                    }
+                    writeln!(w, ")\n;\n}}")?;
+                }
+                writeln!(w, ")")
+            }),
+        ));
+    }
+    if !mesh.face_zones.is_empty() {
+        files.push((
+            "faceZones",
+            Box::new(|w: &mut dyn Write| {
+                header(w, "regIOobject", "faceZones", None)?;
+                writeln!(w, "{}\n(", mesh.face_zones.len())?;
+                for (name, faces) in &mesh.face_zones {
+                    writeln!(
+                        w,
+                        "{name}\n{{\n    type faceZone;\nfaceLabels      List<label> {}\n(",
+                        faces.len()
+                    )?;
+                    for &f in faces {
+                        write_u64(w, u64::from(f))?;
+                        w.write_all(b"\n")?;
+                    }
+                    // The faces as they are oriented (owner to neighbour).
+                    writeln!(w, ")\n;\nflipMap         List<bool> {}\n(", faces.len())?;
+                    for _ in faces {
+                        w.write_all(b"0\n")?;
                     }
                     writeln!(w, ")\n;\n}}")?;
                 }

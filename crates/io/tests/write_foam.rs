@@ -298,6 +298,34 @@ fn triangles_become_one_layer_of_prisms() {
         zones.contains("region_1\n") && zones.contains("region_2\n"),
         "{zones}"
     );
+    assert!(!dir.join("faceZones").exists());
+    // A marked edge between two triangles (a wake, a wall between regions): an internal face
+    // kept as the face zone of its marker.
+    let (edges, markers) = ([[0, 1], [1, 2], [2, 3], [4, 0]], [5, 1, 1, 7]);
+    let written = write_foam_2d(
+        &dir,
+        &TriangleMeshOut {
+            edges: &edges,
+            edge_markers: &markers,
+            ..mesh
+        },
+    )
+    .unwrap();
+    assert_eq!(written.len(), 7);
+    let m = read_foam(&dir);
+    check(&m);
+    let zones = std::fs::read_to_string(dir.join("faceZones")).unwrap();
+    // The edge from the centre to corner 0 is shared by the first and last triangles: the
+    // internal face between cells 0 and 3.
+    let face = (0..m.neighbour.len())
+        .find(|&f| (m.owner[f], m.neighbour[f]) == (0, 3))
+        .unwrap();
+    assert!(
+        zones.contains(&format!(
+            "marker_7\n{{\n    type faceZone;\nfaceLabels      List<label> 1\n(\n{face}\n)"
+        )) && zones.contains("flipMap         List<bool> 1\n(\n0\n)"),
+        "{zones}"
+    );
 }
 
 #[test]
