@@ -40,7 +40,7 @@ mod union_find;
 
 pub use classify::OUTSIDE;
 pub use error::RecoveryError;
-pub use mesh::{MeshArrays, SmoothingStars};
+pub use mesh::MeshArrays;
 pub use mesh3::{tet_volume, FaceIndex, MeshArrays3};
 pub use plc::{spacing_for_area, Plc2, RegionSeed, Segment};
 pub use plc3::{Plc3, RegionSeed3, SurfaceTriangle};

@@ -6,17 +6,6 @@ use crate::recovery::Mesh2;
 use delmesh_delaunay_core::{CellId, Renumbering, VertexId};
 use rayon::prelude::*;
 
-/// What 2D smoothing reads of a mesh (see [`Mesh2::smoothing_stars`]).
-#[derive(Clone, Debug, Default)]
-pub struct SmoothingStars {
-    /// Every vertex's coordinates, in the triangulation's numbering.
-    pub coords: Vec<[f64; 2]>,
-    /// Where each vertex's ring starts in `ring` (one entry per vertex, and one more).
-    pub start: Vec<u32>,
-    /// The rings, counter-clockwise; empty for the vertices that stay fixed.
-    pub ring: Vec<u32>,
-}
-
 /// A mesh as flat arrays, vertices renumbered: input points first in input order, then the
 /// points added by recovery and generation in order of creation. Vertices used by no element
 /// (outside the domain, in holes, duplicates) are left out.
@@ -151,19 +140,14 @@ impl Mesh2 {
         self.arrays(false)
     }
 
-    /// What 2D smoothing reads, taken from the triangulation as it is, without building flat
-    /// arrays: the coordinates of every vertex (in the triangulation's numbering) and, for
-    /// each vertex that may move, its neighbours counter-clockwise as one flat array (vertex
-    /// `v`'s are `ring[start[v]..start[v + 1]]`). A vertex on a boundary edge, or with a cell
-    /// around it that is not an element (on the border of the domain, or used by none), has
-    /// an empty ring: it stays fixed. The rings are read off the cells' neighbours around each
-    /// vertex, in parallel.
-    pub fn smoothing_stars(&self) -> SmoothingStars {
-        /// Vertices per parallel task.
-        const CHUNK: usize = 1 << 14;
-        let tri = self.cdt.triangulation();
-        let n = tri.num_vertices();
-        let mut on_edge = vec![false; n];
+    /// What 2D smoothing reads of the connectivity, taken from the triangulation as it is,
+    /// without building flat arrays: a function that appends the neighbours of vertex `v` (in
+    /// the triangulation's numbering) counter-clockwise to `out` and returns true if `v` may
+    /// move, false if it stays fixed: on a boundary edge, or with a cell around it that is not
+    /// an element (on the border of the domain, or used by none). The ring is read off the
+    /// cells' neighbours around `v`; the function may be called from several threads.
+    pub fn smoothing_rings(&self) -> impl Fn(usize, &mut Vec<u32>) -> bool + Sync + '_ {
+        let mut on_edge = vec![false; self.cdt.triangulation().num_vertices()];
         for e in &self.edges {
             for v in [e.a, e.b] {
                 if let Some(f) = on_edge.get_mut(v.index()) {
@@ -171,39 +155,7 @@ impl Mesh2 {
                 }
             }
         }
-        let parts: Vec<(Vec<u32>, Vec<u32>)> = (0..n.div_ceil(CHUNK))
-            .into_par_iter()
-            .map(|k| {
-                let vertices = k * CHUNK..((k + 1) * CHUNK).min(n);
-                let (mut ring, mut lengths) = (Vec::new(), Vec::with_capacity(vertices.len()));
-                for i in vertices {
-                    let at = ring.len();
-                    if !on_edge[i] && !self.ring_around(VertexId(i as u32), &mut ring) {
-                        ring.truncate(at);
-                    }
-                    lengths.push((ring.len() - at) as u32);
-                }
-                (ring, lengths)
-            })
-            .collect();
-        let mut stars = SmoothingStars {
-            coords: (0..n as u32)
-                .into_par_iter()
-                .map(|i| tri.vertex(VertexId(i)))
-                .collect(),
-            start: Vec::with_capacity(n + 1),
-            ring: Vec::new(),
-        };
-        stars.start.push(0);
-        for (ring, lengths) in parts {
-            let mut at = stars.ring.len() as u32;
-            for len in lengths {
-                at += len;
-                stars.start.push(at);
-            }
-            stars.ring.extend_from_slice(&ring);
-        }
-        stars
+        move |v, out| !on_edge[v] && self.ring_around(VertexId(v as u32), out)
     }
 
     /// Appends the neighbours of `v` counter-clockwise to `out`, walking from cell to cell

@@ -25,8 +25,9 @@ use std::time::Instant;
 
 use delmesh_boundary_recovery::{
     BoundaryRecovery, Mesh2, MeshArrays, Plc2, RecoveryHistory, RecoveryMethod, RegionSeed,
-    Segment, SegmentSplits, SmoothingStars,
+    Segment, SegmentSplits,
 };
+use delmesh_delaunay_core::VertexId;
 use delmesh_io::PolyFile;
 use delmesh_point_gen::{
     Adaptation, AreaLimits, BackgroundMesh2, GenerationReport, PointGeneration, QualityRefinement,
@@ -221,14 +222,14 @@ fn mesh_plc_as_given(plc: &Plc2, options: &MeshOptions2) -> Result<MeshRun2, Err
     let smoothing = match &options.smoothing {
         Some(smoother) => {
             // Only what smoothing reads: the vertices and their stars, in the triangulation's
-            // numbering; the coordinates are compared with the triangulation's (which they
-            // were read from) to find the moves.
-            let SmoothingStars {
-                mut coords,
-                start,
-                ring,
-            } = mesh.smoothing_stars();
-            let stars = Stars::from_rings(start, ring)
+            // numbering.
+            let tri = mesh.cdt.triangulation();
+            let n = tri.num_vertices();
+            let mut coords: Vec<[f64; 2]> = (0..n as u32)
+                .into_par_iter()
+                .map(|v| tri.vertex(VertexId(v)))
+                .collect();
+            let stars = Stars::build(n, mesh.smoothing_rings())
                 .map_err(|e| Error::Internal(format!("the mesh's stars: {e}")))?;
             let stats = smoother.smooth_stars(&mut coords, &stars)?;
             // The smoother keeps every element positive, so the triangulation accepts the moves.

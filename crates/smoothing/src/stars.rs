@@ -42,20 +42,26 @@ impl Stars {
                 ring.len()
             ));
         }
-        let n = start.len() - 1;
         if let Some(i) = start.windows(2).position(|w| w[0] > w[1]) {
             return bad(format!("ring starts decrease at point {i}"));
         }
         let stars = Stars { start, ring };
+        stars.check()?;
+        Ok(stars)
+    }
+
+    /// Errors unless every ring is empty or at least three other points.
+    fn check(&self) -> Result<(), SmoothError> {
+        let n = self.len();
         let broken = (0..n).into_par_iter().find_first(|&i| {
-            let r = stars.ring(i);
+            let r = self.ring(i);
             (!r.is_empty() && r.len() < 3) || r.iter().any(|&u| u as usize >= n || u as usize == i)
         });
         match broken {
-            Some(i) => bad(format!(
+            Some(i) => Err(SmoothError::BadInput(format!(
                 "the ring of point {i} is not a cycle of at least three other points"
-            )),
-            None => Ok(stars),
+            ))),
+            None => Ok(()),
         }
     }
 
@@ -112,17 +118,38 @@ impl Stars {
         for (v, &f) in fixed.iter().enumerate() {
             is_fixed[rank[v] as usize] = f;
         }
-        // The rings, in parallel chunks of points concatenated in order: each chunk's rings
-        // and the ring length of each of its points.
+        Stars::gather(n, |i, out| {
+            let c = &corners[first[i] as usize..first[i + 1] as usize];
+            !is_fixed[i] && !c.is_empty() && chain(c, out)
+        })
+    }
+
+    /// The stars of `n` points, each appended by `ring(i, out)` (counter-clockwise), which
+    /// returns false for a point that stays fixed (what it appended is dropped); points in
+    /// parallel chunks, concatenated in order. Checked as [`Stars::from_rings`] checks.
+    ///
+    /// # Errors
+    /// As [`Stars::from_rings`].
+    pub fn build(
+        n: usize,
+        ring: impl Fn(usize, &mut Vec<u32>) -> bool + Sync,
+    ) -> Result<Stars, SmoothError> {
+        let stars = Stars::gather(n, ring);
+        stars.check()?;
+        Ok(stars)
+    }
+
+    /// [`Stars::build`] unchecked.
+    fn gather(n: usize, ring: impl Fn(usize, &mut Vec<u32>) -> bool + Sync) -> Stars {
+        // Each chunk's rings and the ring length of each of its points.
         let parts: Vec<(Vec<u32>, Vec<u32>)> = (0..n.div_ceil(RING_CHUNK))
             .into_par_iter()
             .map(|k| {
                 let points = k * RING_CHUNK..((k + 1) * RING_CHUNK).min(n);
                 let (mut rings, mut lengths) = (Vec::new(), Vec::with_capacity(points.len()));
                 for i in points {
-                    let c = &corners[first[i] as usize..first[i + 1] as usize];
                     let at = rings.len();
-                    if !is_fixed[i] && !c.is_empty() && !chain(c, &mut rings) {
+                    if !ring(i, &mut rings) {
                         rings.truncate(at);
                     }
                     lengths.push((rings.len() - at) as u32);
@@ -132,7 +159,7 @@ impl Stars {
             .collect();
         let mut stars = Stars {
             start: Vec::with_capacity(n + 1),
-            ring: Vec::with_capacity(corners.len()),
+            ring: Vec::with_capacity(parts.iter().map(|p| p.0.len()).sum()),
         };
         stars.start.push(0);
         for (rings, lengths) in parts {
