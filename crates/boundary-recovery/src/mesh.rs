@@ -128,18 +128,6 @@ impl Mesh2 {
             .collect()
     }
 
-    /// The mesh as flat arrays (see [`MeshArrays`]).
-    pub fn to_arrays(&self) -> MeshArrays {
-        self.arrays(true)
-    }
-
-    /// What smoothing needs of [`Mesh2::to_arrays`], cheaper: `coords`, `triangles`,
-    /// `on_boundary` and `vertex` as there, but with the vertices in the triangulation's order
-    /// (not input order); the other fields are empty.
-    pub fn smoothing_arrays(&self) -> MeshArrays {
-        self.arrays(false)
-    }
-
     /// What 2D smoothing reads of the connectivity, taken from the triangulation as it is,
     /// without building flat arrays: a function that appends the neighbours of vertex `v` (in
     /// the triangulation's numbering) counter-clockwise to `out` and returns true if `v` may
@@ -187,8 +175,8 @@ impl Mesh2 {
         false
     }
 
-    /// The flat arrays; all of them if `full`, else those of [`Mesh2::smoothing_arrays`].
-    fn arrays(&self, full: bool) -> MeshArrays {
+    /// The mesh as flat arrays (see [`MeshArrays`]).
+    pub fn to_arrays(&self) -> MeshArrays {
         let tri = self.cdt.triangulation();
         let nv = tri.num_vertices();
         let cells = self.element_list();
@@ -198,19 +186,13 @@ impl Mesh2 {
                 used[v.index()] = true;
             }
         }
-        // Output arrays in input order (each vertex has its own input index, so placing them by
-        // it sorts); smoothing's in the triangulation's own order, which keeps its locality.
-        let order: Vec<VertexId> = if full {
+        // In input order (each vertex has its own input index, so placing them by it sorts).
+        let order: Vec<VertexId> = {
             let mut by_input = vec![VertexId::GHOST; tri.num_input_points()];
             for v in (0..nv as u32).map(VertexId).filter(|v| used[v.index()]) {
                 by_input[tri.input_index(v)] = v;
             }
             by_input.into_iter().filter(|v| !v.is_ghost()).collect()
-        } else {
-            (0..nv as u32)
-                .map(VertexId)
-                .filter(|v| used[v.index()])
-                .collect()
         };
         let mut number = vec![u32::MAX; nv];
         for (k, &v) in order.iter().enumerate() {
@@ -218,11 +200,7 @@ impl Mesh2 {
         }
         let mut out = MeshArrays {
             coords: order.par_iter().map(|&v| tri.vertex(v)).collect(),
-            point_markers: if full {
-                vec![0; order.len()]
-            } else {
-                Vec::new()
-            },
+            point_markers: vec![0; order.len()],
             on_boundary: vec![false; order.len()],
             triangles: cells
                 .par_iter()
@@ -237,17 +215,6 @@ impl Mesh2 {
                 .collect(),
             ..Default::default()
         };
-        if !full {
-            for e in &self.edges {
-                let (a, b) = (number[e.a.index()], number[e.b.index()]);
-                if a != u32::MAX && b != u32::MAX {
-                    out.on_boundary[a as usize] = true;
-                    out.on_boundary[b as usize] = true;
-                }
-            }
-            out.vertex = order;
-            return out;
-        }
         let mut triangle_of = vec![u32::MAX; self.cdt.num_cell_slots()];
         for (k, &c) in cells.iter().enumerate() {
             triangle_of[c.index()] = k as u32;
