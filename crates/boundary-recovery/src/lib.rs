@@ -54,6 +54,6 @@ pub use recovery3::{
 };
 pub use surface::{
     check_surface, first_occurrences, CheckedSurface, EdgeName, Junction, Listed, PointLocation,
-    PointOnTriangle, PolygonFacet, SurfaceComponent, SurfaceEdge, SurfaceError, TriangleName,
-    TrianglePair, VertexName,
+    PointOnTriangle, PolygonFacet, SurfaceComponent, SurfaceEdge, SurfaceError, TJunctions,
+    TriangleName, TrianglePair, VertexName,
 };

@@ -239,6 +239,46 @@ fn open_surface_names_its_boundary_edges() {
 }
 
 #[test]
+fn a_t_junction_names_the_point_inside_the_open_edge() {
+    // A unit cube whose face y = 1 is split at the midpoint of its top edge, which the face
+    // z = 1 does not use.
+    let points = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 0.0, 1.0],
+        [1.0, 1.0, 1.0],
+        [0.0, 1.0, 1.0],
+        [0.5, 1.0, 1.0],
+    ];
+    let triangles = [
+        [0, 2, 1],
+        [0, 3, 2],
+        [4, 5, 6],
+        [4, 6, 7],
+        [0, 1, 5],
+        [0, 5, 4],
+        [2, 3, 7],
+        [2, 7, 8],
+        [2, 8, 6],
+        [1, 2, 6],
+        [1, 6, 5],
+        [3, 0, 4],
+        [3, 4, 7],
+    ];
+    let plc = Plc3::from_triangles(points, &triangles);
+    assert_eq!(
+        message(&plc),
+        "the surface is not closed: edges used by only one triangle: edge 6-7 (facet 3); \
+         edge 7-8 (facet 7); edge 8-6 (facet 8); point 8 lies inside edge 6-7 (a T-junction: \
+         the triangles on one side use the point, the other's do not; split that triangle at \
+         the point)"
+    );
+}
+
+#[test]
 fn a_surface_without_triangles_is_an_error() {
     let plc = Plc3::from_triangles(TETRA_POINTS.to_vec(), &[]);
     assert_eq!(

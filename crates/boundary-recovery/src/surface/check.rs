@@ -3,7 +3,8 @@
 
 use super::bvh::Boxes;
 use super::error::{
-    EdgeName, Listed, PointOnTriangle, SurfaceError, TriangleName, TrianglePair, VertexName,
+    EdgeName, Listed, PointOnTriangle, SurfaceError, TJunctions, TriangleName, TrianglePair,
+    VertexName,
 };
 use super::intersect::{collinear, intersecting_pairs, points_on_triangles, triangle_box, P};
 use super::volume::{signed_volume, wind, Surface, Winding};
@@ -11,6 +12,7 @@ use super::{CheckedSurface, Junction, SurfaceComponent, SurfaceEdge};
 use crate::plc3::{Plc3, SurfaceTriangle};
 use crate::union_find::UnionFind;
 use delmesh_predicates::{Sign, COORDINATE_RANGE};
+use rayon::prelude::*;
 
 /// The power-of-two scale bringing the largest coordinate magnitude into `[0.5, 1)` and the
 /// scaled points; checks that every coordinate is finite and, scaled, either zero or at least
@@ -295,7 +297,7 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
             let lo = lo as u32;
             for group in around.chunk_by(|x, y| x.0 == y.0) {
                 match group.len() {
-                    1 => open.push((group[0].1, edge_name(lo, group))),
+                    1 => open.push((group[0].1, edge_name(lo, group), [lo, group[0].0])),
                     2 => {
                         let same = group[0].2 == group[1].2;
                         pairs.push((group[0].1, group[1].1, same));
@@ -321,8 +323,25 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
             }
         }
         if !open.is_empty() {
+            open.sort_by_key(|x| x.0);
+            // The listed edges with a point strictly inside (exact collinearity, then between
+            // the ends along an axis where they differ): a T-junction, named as such.
+            let t_junctions = open
+                .iter()
+                .take(Listed::<EdgeName>::MAX_SHOWN)
+                .filter_map(|&(_, _, [a, b])| {
+                    let (pa, pb) = (spts[a as usize], spts[b as usize]);
+                    let k = (0..3).find(|&k| pa[k] != pb[k])?;
+                    let inside = (0..spts.len() as u32).into_par_iter().find_first(|&v| {
+                        let x = spts[v as usize];
+                        pa[k].min(pb[k]) < x[k] && x[k] < pa[k].max(pb[k]) && collinear(pa, pb, x)
+                    })?;
+                    Some((point_name(inside), [point_name(a), point_name(b)]))
+                })
+                .collect();
             return Err(SurfaceError::OpenEdges {
-                edges: listed(open),
+                edges: listed(open.into_iter().map(|x| (x.0, x.1)).collect()),
+                t_junctions: TJunctions(t_junctions),
             });
         }
         if flipped.is_empty() {

@@ -95,6 +95,27 @@ impl fmt::Display for EdgeName {
     }
 }
 
+/// Points lying inside open edges (see [`SurfaceError::OpenEdges`]): each point (input
+/// numbering) and the edge's end points.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct TJunctions(pub Vec<(u64, [u64; 2])>);
+
+impl fmt::Display for TJunctions {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (k, (p, [a, b])) in self.0.iter().enumerate() {
+            let sep = if k == 0 { "; " } else { ", " };
+            write!(f, "{sep}point {p} lies inside edge {a}-{b}")?;
+        }
+        if !self.0.is_empty() {
+            f.write_str(
+                " (a T-junction: the triangles on one side use the point, the other's do not; \
+                 split that triangle at the point)",
+            )?;
+        }
+        Ok(())
+    }
+}
+
 /// A point and the facets around it, grouped into the separate fans it joins.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct VertexName {
@@ -229,10 +250,13 @@ pub enum SurfaceError {
         points: usize,
     },
     /// Edges used by one triangle only: the surface has a hole.
-    #[error("the surface is not closed: edges used by only one triangle: {edges}")]
+    #[error("the surface is not closed: edges used by only one triangle: {edges}{t_junctions}")]
     OpenEdges {
         /// The edges and their facet.
         edges: Listed<EdgeName>,
+        /// Points lying inside one of the listed edges: T-junctions, where the triangles on
+        /// the other side use the point and this edge's triangle does not.
+        t_junctions: TJunctions,
     },
     /// A one-sided surface: however its triangles are reversed, two sharing an edge traverse
     /// it in the same direction (a closed one-sided surface also intersects itself).

@@ -22,7 +22,8 @@ mod volume;
 
 pub use check::{check_surface, first_occurrences};
 pub use error::{
-    EdgeName, Listed, PointOnTriangle, SurfaceError, TriangleName, TrianglePair, VertexName,
+    EdgeName, Listed, PointOnTriangle, SurfaceError, TJunctions, TriangleName, TrianglePair,
+    VertexName,
 };
 pub use polygon::PolygonFacet;
 
