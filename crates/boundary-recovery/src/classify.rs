@@ -23,12 +23,16 @@ use std::collections::VecDeque;
 /// The tag of cells outside the domain (and in holes).
 pub const OUTSIDE: u32 = u32::MAX;
 
+/// A seed as messages name it: `("hole" | "region", number)` in the input's numbering.
+pub(crate) type SeedName = (&'static str, u64);
+
 /// Tags every cell of `cdt` with its region index (0 for the default region, `1 + k` for the
-/// `k`-th region seed) or [`OUTSIDE`]; returns the attribute of each region index.
+/// `k`-th region seed) or [`OUTSIDE`]; returns the attribute of each region index, and the
+/// seeds that lie outside the domain (beyond the outer boundary: they do nothing).
 pub(crate) fn classify(
     cdt: &mut ConstrainedTriangulation2,
     plc: &Plc2,
-) -> Result<Vec<f64>, RecoveryError> {
+) -> Result<(Vec<f64>, Vec<SeedName>), RecoveryError> {
     let tri = cdt.triangulation();
     let cells: Vec<CellId> = tri.all_cells().collect();
     let components = flood_fill(
@@ -81,13 +85,21 @@ pub(crate) fn classify(
     for (k, &h) in plc.holes.iter().enumerate() {
         holes.push(component_at(cdt, h, "hole", k)?);
     }
+    let outside_seeds: Vec<SeedName> = regions
+        .iter()
+        .map(|r| ("region", r.0))
+        .enumerate()
+        .chain(holes.iter().map(|&h| ("hole", h)).enumerate())
+        .filter(|(_, (_, comp))| comp.is_some_and(|c| components.exterior[c]))
+        .map(|(k, (what, _))| (what, k as u64 + base))
+        .collect();
     let tri = cdt.triangulation();
     let (tags, attributes) =
         domain_tags(&cells, &components, &regions, &holes, |c| tri.is_ghost(c))?;
     for (&c, tag) in cells.iter().zip(tags) {
         cdt.set_tag(c, tag);
     }
-    Ok(attributes)
+    Ok((attributes, outside_seeds))
 }
 
 /// The tag of each of `cells` (in order) from the flood fill's components: a component

@@ -70,6 +70,10 @@ pub struct RecoveryHistory {
     /// Input points that repeat an earlier one exactly, merged into it: (duplicate, first),
     /// in the input's numbering.
     pub merged_points: Vec<(u64, u64)>,
+    /// Hole and region seeds beyond the outer boundary, which do nothing: `("hole" |
+    /// "region", number)` in the input's numbering (a seed with a wrong coordinate, or in
+    /// other units, would otherwise go unnoticed).
+    pub seeds_outside: Vec<(&'static str, u64)>,
 }
 
 impl RecoveryHistory {
@@ -111,6 +115,13 @@ impl fmt::Display for RecoveryHistory {
                 "duplicates merged: {} ({})",
                 self.merged_points.len(),
                 merged_list(&self.merged_points)
+            )?;
+        }
+        for (what, k) in &self.seeds_outside {
+            writeln!(
+                f,
+                "warning: {what} seed {k} lies outside the domain (beyond its outer boundary) \
+                 and does nothing"
             )?;
         }
         Ok(())
@@ -337,7 +348,8 @@ impl BoundaryRecovery {
                 cdt = self.split_and_recover(&mut state, cdt, &splits, &mut history)?;
             }
         }
-        let region_attributes = classify(&mut cdt, plc)?;
+        let (region_attributes, seeds_outside) = classify(&mut cdt, plc)?;
+        history.seeds_outside = seeds_outside;
         let mut point_markers = plc.point_markers.clone();
         point_markers.resize(n_input, 0);
         let edges = state

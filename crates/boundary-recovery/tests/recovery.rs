@@ -353,6 +353,39 @@ fn a_segment_given_twice_keeps_one_marker_or_is_an_error() {
 }
 
 #[test]
+fn seeds_beyond_the_outer_boundary_are_reported() {
+    // A hole seed and a region seed outside the square (a wrong coordinate, other units) do
+    // nothing: the history names them; the seeds inside are not named.
+    let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
+    plc.first_index = 1;
+    plc.holes = vec![[5.0, 5.0]];
+    plc.regions = vec![
+        RegionSeed {
+            point: [0.5, 0.5],
+            attribute: 2.0,
+            max_area: None,
+        },
+        RegionSeed {
+            point: [-3.0, 0.0],
+            attribute: 7.0,
+            max_area: None,
+        },
+    ];
+    for method in METHODS {
+        let mesh = BoundaryRecovery::new(method).run(&plc).unwrap();
+        assert_eq!(
+            mesh.history.seeds_outside,
+            [("region", 2), ("hole", 1)],
+            "{method:?}"
+        );
+        assert!(mesh
+            .history
+            .to_string()
+            .contains("warning: hole seed 1 lies outside the domain"));
+    }
+}
+
+#[test]
 fn bad_input_is_reported() {
     let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
     plc.segments.push(Segment {
