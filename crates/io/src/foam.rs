@@ -585,53 +585,10 @@ fn write_poly_mesh(dir: &Path, mesh: &PolyMesh) -> Result<Vec<PathBuf>, IoError>
         ),
     ];
     if !mesh.zones.is_empty() {
-        files.push((
-            "cellZones",
-            Box::new(|w: &mut dyn Write| {
-                header(w, "regIOobject", "cellZones", None)?;
-                writeln!(w, "{}\n(", mesh.zones.len())?;
-                for (name, cells) in &mesh.zones {
-                    writeln!(
-                        w,
-                        "{name}\n{{\n    type cellZone;\ncellLabels      List<label> {}\n(",
-                        cells.len()
-                    )?;
-                    for &c in cells {
-                        write_u64(w, u64::from(c))?;
-                        w.write_all(b"\n")?;
-                    }
-                    writeln!(w, ")\n;\n}}")?;
-                }
-                writeln!(w, ")")
-            }),
-        ));
+        files.push(("cellZones", zone_list("cell", &mesh.zones)));
     }
     if !mesh.face_zones.is_empty() {
-        files.push((
-            "faceZones",
-            Box::new(|w: &mut dyn Write| {
-                header(w, "regIOobject", "faceZones", None)?;
-                writeln!(w, "{}\n(", mesh.face_zones.len())?;
-                for (name, faces) in &mesh.face_zones {
-                    writeln!(
-                        w,
-                        "{name}\n{{\n    type faceZone;\nfaceLabels      List<label> {}\n(",
-                        faces.len()
-                    )?;
-                    for &f in faces {
-                        write_u64(w, u64::from(f))?;
-                        w.write_all(b"\n")?;
-                    }
-                    // The faces as they are oriented (owner to neighbour).
-                    writeln!(w, ")\n;\nflipMap         List<bool> {}\n(", faces.len())?;
-                    for _ in faces {
-                        w.write_all(b"0\n")?;
-                    }
-                    writeln!(w, ")\n;\n}}")?;
-                }
-                writeln!(w, ")")
-            }),
-        ));
+        files.push(("faceZones", zone_list("face", &mesh.face_zones)));
     }
     let paths: Vec<PathBuf> = files.iter().map(|(name, _)| dir.join(name)).collect();
     // Written side by side (their syncs overlap), renamed together once all are on disk, with
@@ -664,6 +621,35 @@ fn write_poly_mesh(dir: &Path, mesh: &PolyMesh) -> Result<Vec<PathBuf>, IoError>
     }
     settle(staged)?;
     Ok(paths)
+}
+
+/// The body of the `cellZones` or `faceZones` file (`kind` "cell" or "face"): each zone's
+/// name and labels; face zones also have a flip map, all 0 (the faces as they are oriented,
+/// owner to neighbour).
+fn zone_list<'a>(kind: &'static str, zones: &'a [(String, Vec<u32>)]) -> Body<'a> {
+    Box::new(move |w: &mut dyn Write| {
+        header(w, "regIOobject", &format!("{kind}Zones"), None)?;
+        writeln!(w, "{}\n(", zones.len())?;
+        for (name, labels) in zones {
+            writeln!(
+                w,
+                "{name}\n{{\n    type {kind}Zone;\n{kind}Labels      List<label> {}\n(",
+                labels.len()
+            )?;
+            for &l in labels {
+                write_u64(w, u64::from(l))?;
+                w.write_all(b"\n")?;
+            }
+            if kind == "face" {
+                writeln!(w, ")\n;\nflipMap         List<bool> {}\n(", labels.len())?;
+                for _ in labels {
+                    w.write_all(b"0\n")?;
+                }
+            }
+            writeln!(w, ")\n;\n}}")?;
+        }
+        writeln!(w, ")")
+    })
 }
 
 /// The body of the `owner` or `neighbour` file.

@@ -254,19 +254,7 @@ impl Smoother {
         fixed: &[bool],
     ) -> Result<SmoothStats, SmoothError> {
         let n = points.len();
-        if fixed.len() != n {
-            return Err(SmoothError::BadInput(format!(
-                "{} points but {} fixed flags",
-                n,
-                fixed.len()
-            )));
-        }
-        if let Some(i) = points
-            .iter()
-            .position(|p| !p[0].is_finite() || !p[1].is_finite())
-        {
-            return Err(SmoothError::BadInput(format!("point {i} is not finite")));
-        }
+        check_points(points, fixed.len(), "fixed flags")?;
         // The first triangle out of range or not counter-clockwise (checked in parallel).
         let out_of_range = |t: &[u32; 3]| t.iter().any(|&v| v as usize >= n);
         if let Some(k) = triangles.par_iter().position_first(|t| {
@@ -312,19 +300,7 @@ impl Smoother {
         stars: &Stars,
     ) -> Result<SmoothStats, SmoothError> {
         let n = points.len();
-        if stars.len() != n {
-            return Err(SmoothError::BadInput(format!(
-                "{} points but {} stars",
-                n,
-                stars.len()
-            )));
-        }
-        if let Some(i) = points
-            .iter()
-            .position(|p| !p[0].is_finite() || !p[1].is_finite())
-        {
-            return Err(SmoothError::BadInput(format!("point {i} is not finite")));
-        }
+        check_points(points, stars.len(), "stars")?;
         let p: &[[f64; 2]] = points;
         let inverted = (0..n)
             .into_par_iter()
@@ -513,6 +489,23 @@ impl Smoother {
         }
         tally.skipped += 1;
         x
+    }
+}
+
+/// Errors unless there are `given` of `what` (one per point) and every point is finite.
+fn check_points(points: &[[f64; 2]], given: usize, what: &str) -> Result<(), SmoothError> {
+    if given != points.len() {
+        return Err(SmoothError::BadInput(format!(
+            "{} points but {given} {what}",
+            points.len()
+        )));
+    }
+    match points
+        .iter()
+        .position(|p| !p[0].is_finite() || !p[1].is_finite())
+    {
+        Some(i) => Err(SmoothError::BadInput(format!("point {i} is not finite"))),
+        None => Ok(()),
     }
 }
 
