@@ -21,9 +21,10 @@
 //! error bound for that very expression: only when the bound cannot certify the sign does the
 //! exact `orient2d` decide, so no accepted move ever inverts an element. A move must also keep
 //! the smallest angle of the star at 30° or at what it was ([`SIN2_GUARD`]). The neighbours are
-//! gathered once per move, x and y apart, and the triangles of the star tested [`LANES`] at a
-//! time on fixed-size arrays (vector instructions), with the very expressions of the one-by-one
-//! test [`star_accepts`], so the decisions are the same.
+//! gathered once per move, x and y apart, straight into vector registers ([`Group`]: a ring
+//! written to scratch memory and read back as vectors cost a third of the smoothing time, in
+//! stalled loads), and the triangles of the star tested [`LANES`] at a time, with the very
+//! expressions of the one-by-one test [`star_accepts`], so the decisions are the same.
 //!
 //! A point whose triangles do not close around it (on the border of the triangles, or where
 //! two fans touch) has no well-defined star to keep valid: it is boundary and stays fixed.
@@ -170,13 +171,15 @@ struct Tile {
     rings: Rows,
 }
 
-/// Rings of neighbours, counter-clockwise, one row per point. Each row is padded to a multiple
-/// of [`LANES`] with the point itself, whose offset to itself is zero: the gathering loop then
-/// runs a whole number of lane groups, the same number for almost every point (rings of up to
-/// 8), so its exit is predicted, and the padding adds nothing to the sums.
+/// Rings of neighbours, counter-clockwise, one row per point. A row is the ring's last point,
+/// then the ring, so that entries `k` and `k + 1` are the two neighbours of triangle `k` of the
+/// star; the ring is padded to a multiple of [`LANES`] with the point itself, whose offset to
+/// itself is zero: the gathering loop then runs a whole number of lane groups, the same number
+/// for almost every point (rings of up to 8), so its exit is predicted, and the padding adds
+/// nothing to the sums.
 #[derive(Default)]
 struct Rows {
-    /// `ring[start[i]..start[i + 1]]`: row `i`, padded.
+    /// `ring[start[i]..start[i + 1]]`: row `i` (last neighbour, ring, padding).
     start: Vec<u32>,
     /// The number of neighbours of row `i` (its length without the padding).
     degree: Vec<u32>,
@@ -194,15 +197,19 @@ impl Rows {
     /// Appends the row of point `own` (in the rows' numbering).
     fn push(&mut self, neighbours: impl IntoIterator<Item = u32>, own: u32) {
         let first = self.ring.len();
+        // The slot for the last neighbour, repeated in front.
+        self.ring.push(own);
         self.ring.extend(neighbours);
-        self.degree.push((self.ring.len() - first) as u32);
-        while (self.ring.len() - first) % LANES != 0 {
+        let m = self.ring.len() - first - 1;
+        self.ring[first] = self.ring[first + m];
+        self.degree.push(m as u32);
+        while (self.ring.len() - first - 1) % LANES != 0 {
             self.ring.push(own);
         }
         self.start.push(self.ring.len() as u32);
     }
 
-    /// Row `i`, padded, and its number of neighbours.
+    /// Row `i` (last neighbour, ring, padding) and its number of neighbours.
     #[inline(always)]
     fn row(&self, i: usize) -> (&[u32], usize) {
         let row = &self.ring[self.start[i] as usize..self.start[i + 1] as usize];
@@ -347,6 +354,10 @@ impl Smoother {
     fn relax(&self, points: &mut [[f64; 2]], layout: &Layout) -> SmoothStats {
         let widest = layout.colours.iter().map(|r| r.len()).max().unwrap_or(0);
         let mut scratch = vec![[0.0f64; 2]; widest];
+        // `ω / m` for rings of `m` points: no division on the way from the sums to the move.
+        let weight: &[f64] = &(0..=layout.widest)
+            .map(|m| self.omega / m as f64)
+            .collect::<Vec<_>>();
         let mut buffers: Vec<Vec<[f64; 2]>> = layout
             .tiles
             .iter()
@@ -378,11 +389,10 @@ impl Smoother {
                     for (slot, &h) in buf[n..].iter_mut().zip(&tile.halo) {
                         *slot = rest[h as usize - layout.seam_start];
                     }
-                    let (mut t, mut star) =
-                        (Tally::default(), Star::new(layout.widest, self.omega));
+                    let mut t = Tally::default();
                     for v in 0..n {
-                        let (ring, m) = tile.rings.row(v);
-                        buf[v] = self.propose(buf, v, ring, m, &mut star, &mut t);
+                        let (row, m) = tile.rings.row(v);
+                        buf[v] = Self::propose(buf, v, row, m, weight, &mut t);
                     }
                     for &i in &tile.exposed {
                         own[i as usize] = buf[i as usize];
@@ -395,11 +405,10 @@ impl Smoother {
                 let read: &[[f64; 2]] = points;
                 let task = |(k, chunk): (usize, &mut [[f64; 2]])| {
                     let first = range.start + k * CHUNK;
-                    let (mut t, mut star) =
-                        (Tally::default(), Star::new(layout.widest, self.omega));
+                    let mut t = Tally::default();
                     for (i, slot) in chunk.iter_mut().enumerate() {
-                        let (ring, m) = layout.rings.row(first + i - layout.seam_start);
-                        *slot = self.propose(read, first + i, ring, m, &mut star, &mut t);
+                        let (row, m) = layout.rings.row(first + i - layout.seam_start);
+                        *slot = Self::propose(read, first + i, row, m, weight, &mut t);
                     }
                     t
                 };
@@ -438,54 +447,57 @@ impl Smoother {
     /// until every triangle around it stays positive (exact) and keeps [`AREA_KEEP`] of its
     /// area (the edge opposite `v` is fixed, so a triangle's area is linear in `v`'s position),
     /// or its old position if refused. Counts the outcome in `tally`, with the squared move
-    /// over the mean squared length of `v`'s edges. `star` is scratch space for `v`'s ring.
-    /// `padded` is the ring's row (see [`Rows`]), whose first `m` entries are the ring.
+    /// over the mean squared length of `v`'s edges. `row` is `v`'s row (see [`Rows`]), with
+    /// `m` neighbours; `weight[m]` is `ω / m`.
     #[inline(always)]
     fn propose(
-        &self,
         points: &[[f64; 2]],
         v: usize,
-        padded: &[u32],
+        row: &[u32],
         m: usize,
-        star: &mut Star,
+        weight: &[f64],
         tally: &mut Tally,
     ) -> [f64; 2] {
         let x = points[v];
         let (mut sx, mut sy, mut length2) = (0.0, 0.0, 0.0);
-        let len = padded.len();
-        let (px, py) = (&mut star.x[1..=len], &mut star.y[1..=len]);
         // In order, so the sums are those over the ring alone (the padding adds zeros).
-        for ((lanes, px), py) in padded
-            .chunks_exact(LANES)
-            .zip(px.chunks_exact_mut(LANES))
-            .zip(py.chunks_exact_mut(LANES))
-        {
-            for k in 0..LANES {
-                let q = points[lanes[k] as usize];
-                (px[k], py[k]) = (q[0], q[1]);
-                let (dx, dy) = (q[0] - x[0], q[1] - x[1]);
+        let mut add = |group: &Group| {
+            for j in 0..LANES {
+                let (dx, dy) = (group.bx[j] - x[0], group.by[j] - x[1]);
                 sx += dx;
                 sy += dy;
                 length2 += dx * dx + dy * dy;
             }
+        };
+        // The whole star for rings of up to `LANES` points: gathered once for the move.
+        let first = Group::gather(points, row, 0);
+        add(&first);
+        for k in (LANES..row.len() - 1).step_by(LANES) {
+            add(&Group::gather(points, row, k));
         }
-        let ring = &padded[..m];
-        (star.x[0], star.y[0]) = (star.x[m], star.y[m]);
-        let w = star.weight[m];
+        let w = weight[m];
         let mut step = [w * sx, w * sy];
-        for halving in 0..=MAX_HALVINGS {
-            let y = [x[0] + step[0], x[1] + step[1]];
-            let accepted = y == x || star.accepts(m, x, y, points, ring);
-            if accepted {
-                let moved2 = step[0] * step[0] + step[1] * step[1];
-                if y != x {
-                    tally.largest = tally.largest.max(moved2 * m as f64 / length2);
-                }
-                tally.moved += usize::from(halving == 0);
-                tally.reduced += usize::from(halving > 0);
-                return y;
-            }
+        let mut y = [x[0] + step[0], x[1] + step[1]];
+        // The first try on the gathered star (most moves stop here), then the halvings.
+        let mut accepted = y == x || star_accepts_lanes(&first, m, x, y, points, row);
+        let mut halving = 0;
+        while !accepted && halving < MAX_HALVINGS {
+            halving += 1;
             step = [0.5 * step[0], 0.5 * step[1]];
+            y = [x[0] + step[0], x[1] + step[1]];
+            accepted = y == x || {
+                let first = Group::gather(points, row, 0);
+                star_accepts_lanes(&first, m, x, y, points, row)
+            };
+        }
+        if accepted {
+            let moved2 = step[0] * step[0] + step[1] * step[1];
+            if y != x {
+                tally.largest = tally.largest.max(moved2 * m as f64 / length2);
+            }
+            tally.moved += usize::from(halving == 0);
+            tally.reduced += usize::from(halving > 0);
+            return y;
         }
         tally.skipped += 1;
         x
@@ -516,73 +528,82 @@ const LANES: usize = 8;
 /// One number per triangle of a group of [`LANES`].
 type Lanes = [f64; LANES];
 
-/// The run of [`LANES`] numbers of `c` from `at` (which the caller made room for).
-#[inline(always)]
-fn run(c: &[f64], at: usize) -> &Lanes {
-    c[at..at + LANES].try_into().expect("room for the lanes")
+/// The neighbours of [`LANES`] consecutive triangles of a star, x and y apart: triangle `j` of
+/// the group is (centre, a_j, b_j).
+#[derive(Default)]
+struct Group {
+    ax: Lanes,
+    ay: Lanes,
+    bx: Lanes,
+    by: Lanes,
 }
 
-/// A point's neighbours gathered for the star test, x and y apart: `(x[k], y[k])` for `k` in
-/// `1..=m` is the ring and `k = 0` its last point again, so that triangle `k` of the star is
-/// (centre, `k`, `k + 1`), [`LANES`] of them from the same two runs of the arrays (the lanes
-/// past the ring are not counted).
-struct Star {
-    x: Vec<f64>,
-    y: Vec<f64>,
-    /// `ω / m` for rings of `m` points: no division on the way from the sums to the move.
-    weight: Vec<f64>,
-}
-
-impl Star {
-    /// Room for rings of up to `widest` points, moved with relaxation factor `omega`.
-    fn new(widest: usize, omega: f64) -> Star {
-        let len = widest + LANES + 1;
-        Star {
-            x: vec![0.0; len],
-            y: vec![0.0; len],
-            weight: (0..=widest).map(|m| omega / m as f64).collect(),
-        }
-    }
-
-    /// [`star_accepts`] for the gathered ring of `m` points (`points` and `ring` only for the
-    /// rare stars whose sign the floating-point area cannot certify, or that are sharp): the
-    /// same floating-point expressions per triangle, so the same answer.
+impl Group {
+    /// Triangles `k..k + LANES` of the star in `row` (see [`Rows`]; past the ring, the lanes
+    /// hold the padding). Each neighbour is loaded straight into its lanes, not through memory
+    /// written just before, which the processor cannot forward to a vector load.
     #[inline(always)]
-    fn accepts(
-        &self,
-        m: usize,
-        x: [f64; 2],
-        y: [f64; 2],
-        points: &[[f64; 2]],
-        ring: &[u32],
-    ) -> bool {
-        let (mut refused, mut unsure, mut sharp) = (false, false, false);
-        let mut k = 0;
-        while k < m {
-            let (ax, ay) = (run(&self.x, k), run(&self.y, k));
-            let (bx, by) = (run(&self.x, k + 1), run(&self.y, k + 1));
-            for j in 0..LANES {
-                let t = Triangle::new([ax[j], ay[j]], [bx[j], by[j]], x, y);
-                let real = k + j < m;
-                refused |= real & !t.kept;
-                unsure |= real & !t.certain;
-                sharp |= real & t.sharp;
-            }
-            k += LANES;
+    fn gather(points: &[[f64; 2]], row: &[u32], k: usize) -> Group {
+        let ends: &[u32; LANES + 1] = row[k..=k + LANES].try_into().expect("a padded row");
+        let mut g = Group::default();
+        for j in 0..LANES {
+            let b = points[ends[j + 1] as usize];
+            (g.bx[j], g.by[j]) = (b[0], b[1]);
         }
-        if refused {
-            return false;
+        let a = points[ends[0] as usize];
+        (g.ax[0], g.ay[0]) = (a[0], a[1]);
+        for j in 1..LANES {
+            (g.ax[j], g.ay[j]) = (g.bx[j - 1], g.by[j - 1]);
         }
-        if unsure {
-            return star_accepts(points, ring, x, y);
-        }
-        // A star sharper than the guard after the move must not be sharper than before.
-        if !sharp {
-            return true;
-        }
-        let after = star_sharpness(points, ring, y);
-        after >= SIN2_GUARD || after >= star_sharpness(points, ring, x)
+        g
     }
+
+    /// The [`Triangle`] tests of the group's first `real` triangles (all if more) for the move
+    /// from `x` to `y`: whether one is refused, one unsure, one sharp.
+    #[inline(always)]
+    fn test(&self, real: usize, x: [f64; 2], y: [f64; 2]) -> [bool; 3] {
+        let (mut refused, mut unsure, mut sharp) = (false, false, false);
+        for j in 0..LANES {
+            let t = Triangle::new([self.ax[j], self.ay[j]], [self.bx[j], self.by[j]], x, y);
+            let real = j < real;
+            refused |= real & !t.kept;
+            unsure |= real & !t.certain;
+            sharp |= real & t.sharp;
+        }
+        [refused, unsure, sharp]
+    }
+}
+
+/// [`star_accepts`] for the star of `m` neighbours in `row` (see [`Rows`]), whose first
+/// triangles are `first`, tested [`LANES`] at a time: the same floating-point expressions per
+/// triangle, so the same answer.
+#[inline(always)]
+fn star_accepts_lanes(
+    first: &Group,
+    m: usize,
+    x: [f64; 2],
+    y: [f64; 2],
+    points: &[[f64; 2]],
+    row: &[u32],
+) -> bool {
+    let [mut refused, mut unsure, mut sharp] = first.test(m, x, y);
+    for k in (LANES..m).step_by(LANES) {
+        let [r, u, s] = Group::gather(points, row, k).test(m - k, x, y);
+        (refused, unsure, sharp) = (refused | r, unsure | u, sharp | s);
+    }
+    let ring = &row[1..=m];
+    if refused {
+        return false;
+    }
+    if unsure {
+        return star_accepts(points, ring, x, y);
+    }
+    // A star sharper than the guard after the move must not be sharper than before.
+    if !sharp {
+        return true;
+    }
+    let after = star_sharpness(points, ring, y);
+    after >= SIN2_GUARD || after >= star_sharpness(points, ring, x)
 }
 
 /// The tests of one triangle (y, a, b) of a star whose centre moves from x to y.
