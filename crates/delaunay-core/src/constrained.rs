@@ -53,8 +53,10 @@ struct CellInfo {
     tag: u32,
     /// The epoch in which the cell was last created or changed.
     stamp: u32,
-    /// Bit `i`: the edge opposite local vertex `i` is constrained.
-    constrained: u8,
+    /// Bit `i`: the edge opposite local vertex `i` is constrained. (A whole word, as wide as
+    /// the compiler reads it: a one-byte store read back by a wider load, as just after an
+    /// insertion, waits for the store to reach the cache.)
+    constrained: u32,
 }
 
 #[inline]
@@ -85,7 +87,7 @@ fn strictly_opposite(s: Sign, t: Sign) -> bool {
 }
 
 #[inline]
-fn bit(mask: u8, k: usize) -> u8 {
+fn bit(mask: u32, k: usize) -> u32 {
     (mask >> k) & 1
 }
 
@@ -556,19 +558,24 @@ impl ConstrainedTriangulation2 {
     fn legalize_around(&mut self, v: VertexId) {
         while let Some(fr) = self.stack.pop() {
             let (c, i) = (fr.cell(), fr.facet());
-            let s = self.tri.simplices[c.index()];
-            if s.v[i] != v || self.is_constrained(c, i) {
+            // The test reads the cells field by field: they were just written so, and a load
+            // of a whole cell would wait for those stores to reach the cache.
+            let cell = &self.tri.simplices[c.index()];
+            if cell.v[i] != v || self.is_constrained(c, i) {
                 continue;
             }
-            debug_assert!(s.v[..3].iter().all(|u| !u.is_ghost()));
-            let across = s.n[i];
-            let t = self.tri.simplices[across.cell().index()];
-            let d = t.v[across.facet()];
+            debug_assert!(cell.v[..3].iter().all(|u| !u.is_ghost()));
+            let across = cell.n[i];
+            let d = self.tri.simplices[across.cell().index()].v[across.facet()];
             if d.is_ghost()
-                || D2::insphere_cell(&self.tri.points, &s.v, self.pt(d)) != Sign::Positive
+                || D2::insphere_cell(&self.tri.points, &cell.v, self.pt(d)) != Sign::Positive
             {
                 continue;
             }
+            let (s, t) = (
+                self.tri.simplices[c.index()],
+                self.tri.simplices[across.cell().index()],
+            );
             let (t1, t2) = self.flip_loaded(c, i, s, t);
             self.stack.push(FacetRef::new(t1, 0));
             self.stack.push(FacetRef::new(t2, 0));
