@@ -85,14 +85,7 @@ pub(crate) fn classify(
     for (k, &h) in plc.holes.iter().enumerate() {
         holes.push(component_at(cdt, h, "hole", k)?);
     }
-    let outside_seeds: Vec<SeedName> = regions
-        .iter()
-        .map(|r| ("region", r.0))
-        .enumerate()
-        .chain(holes.iter().map(|&h| ("hole", h)).enumerate())
-        .filter(|(_, (_, comp))| comp.is_some_and(|c| components.exterior[c]))
-        .map(|(k, (what, _))| (what, k as u64 + base))
-        .collect();
+    let outside_seeds = seeds_outside(&components, &regions, &holes, base);
     let tri = cdt.triangulation();
     let (tags, attributes) =
         domain_tags(&cells, &components, &regions, &holes, |c| tri.is_ghost(c))?;
@@ -100,6 +93,24 @@ pub(crate) fn classify(
         cdt.set_tag(c, tag);
     }
     Ok((attributes, outside_seeds))
+}
+
+/// The seeds (regions with their attributes, then holes; numbered from `base`) whose
+/// component is the exterior: they do nothing. Shared by the 2D and 3D flood fills.
+pub(crate) fn seeds_outside(
+    components: &Components,
+    regions: &[(Option<usize>, f64)],
+    holes: &[Option<usize>],
+    base: u64,
+) -> Vec<SeedName> {
+    regions
+        .iter()
+        .map(|r| ("region", r.0))
+        .enumerate()
+        .chain(holes.iter().map(|&h| ("hole", h)).enumerate())
+        .filter(|(_, (_, comp))| comp.is_some_and(|c| components.exterior[c]))
+        .map(|(k, (what, _))| (what, k as u64 + base))
+        .collect()
 }
 
 /// The tag of each of `cells` (in order) from the flood fill's components: a component

@@ -88,6 +88,28 @@ impl Mesh2 {
         }
     }
 
+    /// The input segments (0-based) none of whose edges has an element on either side, in
+    /// increasing order.
+    pub(crate) fn segments_outside(&self) -> Vec<u32> {
+        let mut bounding: Vec<u32> = self
+            .edges
+            .iter()
+            .filter(|e| self.oriented(e.a, e.b).is_some())
+            .map(|e| e.segment)
+            .collect();
+        bounding.sort_unstable();
+        bounding.dedup();
+        let mut outside: Vec<u32> = self
+            .edges
+            .iter()
+            .map(|e| e.segment)
+            .filter(|k| bounding.binary_search(k).is_err())
+            .collect();
+        outside.sort_unstable();
+        outside.dedup();
+        outside
+    }
+
     /// Renumbers the triangulation's vertices and cells along a space-filling curve, for the
     /// memory locality of every later sweep (see `Triangulation::renumber`); the spacing and the
     /// boundary edges move with their vertices. The output arrays, numbered by input order, do

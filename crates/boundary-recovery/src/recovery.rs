@@ -74,6 +74,10 @@ pub struct RecoveryHistory {
     /// "region", number)` in the input's numbering (a seed with a wrong coordinate, or in
     /// other units, would otherwise go unnoticed).
     pub seeds_outside: Vec<(&'static str, u64)>,
+    /// Input segments with no element on either side, in the input's numbering: a wake line
+    /// beyond the outer boundary or inside a hole, a body outside the far field. They bound
+    /// nothing and are in no output.
+    pub segments_outside: Vec<u64>,
 }
 
 impl RecoveryHistory {
@@ -124,11 +128,38 @@ impl fmt::Display for RecoveryHistory {
                  and does nothing"
             )?;
         }
+        if !self.segments_outside.is_empty() {
+            let shown: Vec<String> = self
+                .segments_outside
+                .iter()
+                .take(MERGED_SHOWN)
+                .map(u64::to_string)
+                .collect();
+            let more = self.segments_outside.len().saturating_sub(MERGED_SHOWN);
+            let (noun, verb) = if self.segments_outside.len() == 1 {
+                ("segment", "lies")
+            } else {
+                ("segments", "lie")
+            };
+            writeln!(
+                f,
+                "warning: {noun} {}{} {verb} outside the domain (no element on either side) \
+                 and {} in no output",
+                shown.join(", "),
+                if more > 0 {
+                    format!(", and {more} more,")
+                } else {
+                    String::new()
+                },
+                if noun == "segment" { "is" } else { "are" }
+            )?;
+        }
         Ok(())
     }
 }
 
-/// How many merged duplicate points a recovery history lists by number.
+/// How many merged duplicate points, or segments outside the domain, a recovery history lists
+/// by number.
 const MERGED_SHOWN: usize = 5;
 
 /// The first merged duplicates as `points 5 into 3, 9 into 1, and 4 more`.
@@ -362,7 +393,7 @@ impl BoundaryRecovery {
                 segment: checked.origin[s.segment as usize],
             })
             .collect();
-        Ok(Mesh2 {
+        let mut mesh = Mesh2 {
             cdt,
             edges,
             spacing: state.spacing,
@@ -370,7 +401,14 @@ impl BoundaryRecovery {
             point_markers,
             n_input_points: n_input,
             history,
-        })
+        };
+        let base = u64::from(plc.first_index);
+        mesh.history.segments_outside = mesh
+            .segments_outside()
+            .into_iter()
+            .map(|k| u64::from(k) + base)
+            .collect();
+        Ok(mesh)
     }
 
     /// Splits the sub-segments `splits` (index, parameters) of a recovered boundary and

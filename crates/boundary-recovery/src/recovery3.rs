@@ -193,6 +193,9 @@ pub struct RecoveryHistory3 {
     pub tetrahedra_outside: usize,
     /// Tetrahedra inside the domain after classification.
     pub tetrahedra_inside: usize,
+    /// Hole and region seeds outside every closed surface, which do nothing: `("hole" |
+    /// "region", number)` in the input's numbering (as in 2D).
+    pub seeds_outside: Vec<(&'static str, u64)>,
 }
 
 impl RecoveryHistory3 {
@@ -347,7 +350,15 @@ impl fmt::Display for RecoveryHistory3 {
         row(f, "No. of field points:", self.field_points)?;
         row(f, "No. of surface faces:", self.final_surface_faces)?;
         row(f, "No. of surface edges:", self.final_surface_edges)?;
-        row(f, "No. of tetrahedra:", self.tetrahedra_inside)
+        row(f, "No. of tetrahedra:", self.tetrahedra_inside)?;
+        for (what, k) in &self.seeds_outside {
+            writeln!(
+                f,
+                "Warning: {what} seed {k} lies outside the domain (outside every closed \
+                 surface) and does nothing"
+            )?;
+        }
+        Ok(())
     }
 }
 
@@ -885,7 +896,8 @@ impl BoundaryRecovery3 {
         }
 
         history.final_surface_faces = faces.len();
-        let region_attributes = classify3(&mut ct, plc)?;
+        let (region_attributes, seeds_outside) = classify3(&mut ct, plc)?;
+        history.seeds_outside = seeds_outside;
         for c in ct.triangulation().cells() {
             if ct.tag(c) == OUTSIDE {
                 history.tetrahedra_outside += 1;

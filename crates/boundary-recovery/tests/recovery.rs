@@ -386,6 +386,52 @@ fn seeds_beyond_the_outer_boundary_are_reported() {
 }
 
 #[test]
+fn segments_outside_the_domain_are_reported() {
+    // A square with a square hole; a wake line beyond the outer boundary and one inside the
+    // hole bound nothing: the history names them (in the input's numbering), and not the
+    // segments that bound the domain, a wake inside it, or a triangle beside the square (a
+    // second body, meshed).
+    let mut plc = plc_of(&[
+        square([0.0, 0.0], 2.0, true),
+        square([0.0, 0.0], 1.0, false),
+    ]);
+    plc.first_index = 1;
+    let mut open = |a: [f64; 2], b: [f64; 2]| {
+        let k = plc.points.len() as u32;
+        plc.points.extend([a, b]);
+        plc.segments.push(Segment {
+            a: k,
+            b: k + 1,
+            marker: 5,
+        });
+    };
+    open([3.0, 0.0], [4.0, 0.0]);
+    open([-0.5, 0.0], [0.5, 0.0]);
+    open([1.5, 0.0], [1.8, 0.0]);
+    let t = plc.points.len() as u32;
+    plc.points.extend([[5.0, 5.0], [6.0, 5.0], [5.0, 6.0]]);
+    for i in 0..3 {
+        plc.segments.push(Segment {
+            a: t + i,
+            b: t + (i + 1) % 3,
+            marker: 7,
+        });
+    }
+    for method in METHODS {
+        let mesh = BoundaryRecovery::new(method).run(&plc).unwrap();
+        assert_eq!(mesh.history.segments_outside, [9, 10], "{method:?}");
+        assert!(
+            mesh.history.to_string().contains(
+                "warning: segments 9, 10 lie outside the domain (no element on either side) \
+                 and are in no output"
+            ),
+            "{}",
+            mesh.history
+        );
+    }
+}
+
+#[test]
 fn bad_input_is_reported() {
     let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
     plc.segments.push(Segment {

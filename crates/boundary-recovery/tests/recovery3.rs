@@ -4,7 +4,7 @@
 
 use delmesh_boundary_recovery::{
     check_surface, tet_volume, BoundaryRecovery3, Mesh3, Plc3, RecoveryError, RecoveryMethod3,
-    RecoveryStep, SurfaceTriangle,
+    RecoveryStep, RegionSeed3, SurfaceTriangle,
 };
 use delmesh_delaunay_core::{FlipIn, Triangulation3, VertexId};
 use delmesh_predicates::{orient3d, Sign};
@@ -369,6 +369,34 @@ fn cube_alone() {
     // diagonal than the input, the diagonal's mid-point is needed, nothing more.
     assert!(mesh.history.points_added() <= 6 * 9, "{}", mesh.history);
     assert_eq!(mesh.history.face_points, 0, "{}", mesh.history);
+}
+
+#[test]
+fn seeds_outside_every_surface_are_reported() {
+    // A hole seed and a region seed beyond the cube (a wrong coordinate, other units) do
+    // nothing: the history names them; the seed inside is not named.
+    let (p, t) = box_surface([0.0; 3], [1.0; 3], 2, true);
+    let mut plc = Plc3::default();
+    add_surface(&mut plc, &p, &t, 1);
+    plc.first_index = 1;
+    plc.holes = vec![[5.0, 5.0, 5.0]];
+    plc.regions = [[0.5, 0.5, 0.5], [-3.0, 0.5, 0.5]]
+        .map(|point| RegionSeed3 {
+            point,
+            attribute: 2.0,
+            max_volume: None,
+        })
+        .to_vec();
+    let mesh = BoundaryRecovery3::default().run(&plc).unwrap();
+    check(&plc, &mesh, 1.0);
+    assert_eq!(mesh.history.seeds_outside, [("region", 2), ("hole", 1)]);
+    assert!(
+        mesh.history
+            .to_string()
+            .contains("Warning: hole seed 1 lies outside the domain"),
+        "{}",
+        mesh.history
+    );
 }
 
 #[test]
