@@ -24,15 +24,37 @@ use std::collections::VecDeque;
 pub const OUTSIDE: u32 = u32::MAX;
 
 /// A seed as messages name it: `("hole" | "region", number)` in the input's numbering.
-pub(crate) type SeedName = (&'static str, u64);
+pub type SeedName = (&'static str, u64);
+
+/// The seeds that do nothing: outside the domain ([`seeds_outside`]), or overridden by
+/// another seed ([`overridden_seeds`]).
+pub(crate) struct SeedReport {
+    /// Outside the domain.
+    pub(crate) outside: Vec<SeedName>,
+    /// (overridden, winner).
+    pub(crate) overridden: Vec<(SeedName, SeedName)>,
+}
+
+/// The warning for a seed overridden by another (see [`overridden_seeds`]), without the
+/// leading "warning: ".
+pub(crate) fn overridden_message((what, k): SeedName, (by, j): SeedName) -> String {
+    if by == "hole" {
+        format!("{what} seed {k} lies in the part hole seed {j} removes and does nothing")
+    } else {
+        format!(
+            "{what} seeds {k} and {j} lie in the same region with different attributes: \
+             seed {j}'s is used"
+        )
+    }
+}
 
 /// Tags every cell of `cdt` with its region index (0 for the default region, `1 + k` for the
 /// `k`-th region seed) or [`OUTSIDE`]; returns the attribute of each region index, and the
-/// seeds that lie outside the domain (beyond the outer boundary: they do nothing).
+/// seeds that do nothing (beyond the outer boundary, or overridden).
 pub(crate) fn classify(
     cdt: &mut ConstrainedTriangulation2,
     plc: &Plc2,
-) -> Result<(Vec<f64>, Vec<SeedName>), RecoveryError> {
+) -> Result<(Vec<f64>, SeedReport), RecoveryError> {
     let tri = cdt.triangulation();
     let cells: Vec<CellId> = tri.all_cells().collect();
     let components = flood_fill(
@@ -85,14 +107,17 @@ pub(crate) fn classify(
     for (k, &h) in plc.holes.iter().enumerate() {
         holes.push(component_at(cdt, h, "hole", k)?);
     }
-    let outside_seeds = seeds_outside(&components, &regions, &holes, base);
+    let seeds = SeedReport {
+        outside: seeds_outside(&components, &regions, &holes, base),
+        overridden: overridden_seeds(&components, &regions, &holes, base),
+    };
     let tri = cdt.triangulation();
     let (tags, attributes) =
         domain_tags(&cells, &components, &regions, &holes, |c| tri.is_ghost(c))?;
     for (&c, tag) in cells.iter().zip(tags) {
         cdt.set_tag(c, tag);
     }
-    Ok((attributes, outside_seeds))
+    Ok((attributes, seeds))
 }
 
 /// The seeds (regions with their attributes, then holes; numbered from `base`) whose
@@ -111,6 +136,39 @@ pub(crate) fn seeds_outside(
         .filter(|(_, (_, comp))| comp.is_some_and(|c| components.exterior[c]))
         .map(|(k, (what, _))| (what, k as u64 + base))
         .collect()
+}
+
+/// Seeds that another seed overrides (same numbering as [`seeds_outside`]), as (overridden,
+/// winner): a region seed in the same region as a later one with another attribute (the last
+/// wins), a region seed in the part a hole seed removes. Seeds outside the domain are left to
+/// [`seeds_outside`]. Shared by the 2D and 3D flood fills.
+pub(crate) fn overridden_seeds(
+    components: &Components,
+    regions: &[(Option<usize>, f64)],
+    holes: &[Option<usize>],
+    base: u64,
+) -> Vec<(SeedName, SeedName)> {
+    let inside = |comp: &Option<usize>| comp.filter(|&c| !components.exterior[c]);
+    let mut out = Vec::new();
+    for (k, (comp, attribute)) in regions.iter().enumerate() {
+        let Some(c) = inside(comp) else {
+            continue;
+        };
+        // The next seed of the same region decides (and is itself checked against the next).
+        let later = regions[k + 1..]
+            .iter()
+            .position(|(other, _)| inside(other) == Some(c));
+        if let Some(j) = later {
+            let j = k + 1 + j;
+            if regions[j].1.to_bits() != attribute.to_bits() {
+                out.push((("region", k as u64 + base), ("region", j as u64 + base)));
+            }
+        }
+        if let Some(h) = holes.iter().position(|hole| inside(hole) == Some(c)) {
+            out.push((("region", k as u64 + base), ("hole", h as u64 + base)));
+        }
+    }
+    out
 }
 
 /// The tag of each of `cells` (in order) from the flood fill's components: a component

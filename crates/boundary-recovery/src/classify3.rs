@@ -16,15 +16,15 @@ use delmesh_delaunay_core::{CellId, ConstrainedTriangulation3, Location, VertexI
 use delmesh_predicates::{orient3d, Sign};
 
 pub(crate) use crate::classify::OUTSIDE;
-use crate::classify::{domain_tags, flood_fill, seeds_outside, SeedName};
+use crate::classify::{domain_tags, flood_fill, overridden_seeds, seeds_outside, SeedReport};
 
 /// Tags every cell of `ct` with its region index (0 for the default region, `1 + k` for the
 /// `k`-th region seed) or [`OUTSIDE`]; returns the attribute of each region index, and the
-/// seeds that lie outside every closed surface (they do nothing).
+/// seeds that do nothing (outside every closed surface, or overridden).
 pub(crate) fn classify3(
     ct: &mut ConstrainedTriangulation3,
     plc: &Plc3,
-) -> Result<(Vec<f64>, Vec<SeedName>), RecoveryError> {
+) -> Result<(Vec<f64>, SeedReport), RecoveryError> {
     let tri = ct.triangulation();
     let cells: Vec<CellId> = tri.all_cells().collect();
     let components = flood_fill(
@@ -68,14 +68,17 @@ pub(crate) fn classify3(
     for (k, &h) in plc.holes.iter().enumerate() {
         holes.push(component_at(ct, h, "hole", k)?);
     }
-    let outside_seeds = seeds_outside(&components, &regions, &holes, base);
+    let seeds = SeedReport {
+        outside: seeds_outside(&components, &regions, &holes, base),
+        overridden: overridden_seeds(&components, &regions, &holes, base),
+    };
     let tri = ct.triangulation();
     let (tags, attributes) =
         domain_tags(&cells, &components, &regions, &holes, |c| tri.is_ghost(c))?;
     for (&c, tag) in cells.iter().zip(tags) {
         ct.set_tag(c, tag);
     }
-    Ok((attributes, outside_seeds))
+    Ok((attributes, seeds))
 }
 
 /// The cells whose closed tetrahedron holds `p`, found from `start` (one of them) across the

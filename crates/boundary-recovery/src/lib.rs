@@ -38,7 +38,7 @@ mod recovery3;
 mod surface;
 mod union_find;
 
-pub use classify::OUTSIDE;
+pub use classify::{SeedName, OUTSIDE};
 pub use error::RecoveryError;
 pub use mesh::MeshArrays;
 pub use mesh3::{tet_volume, FaceIndex, MeshArrays3};

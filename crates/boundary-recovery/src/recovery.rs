@@ -17,7 +17,7 @@
 //!   flips, so no point is added on the boundary (a constrained Delaunay triangulation).
 
 use crate::check::{check, CheckedPlc};
-use crate::classify::{classify, OUTSIDE};
+use crate::classify::{classify, overridden_message, SeedName, OUTSIDE};
 use crate::error::RecoveryError;
 use crate::plc::{spacing_for_area, Plc2};
 use delmesh_delaunay_core::{
@@ -73,7 +73,11 @@ pub struct RecoveryHistory {
     /// Hole and region seeds beyond the outer boundary, which do nothing: `("hole" |
     /// "region", number)` in the input's numbering (a seed with a wrong coordinate, or in
     /// other units, would otherwise go unnoticed).
-    pub seeds_outside: Vec<(&'static str, u64)>,
+    pub seeds_outside: Vec<SeedName>,
+    /// Seeds another seed overrides, as (overridden, winner): a region seed in the same
+    /// region as a later one with another attribute (the last wins, as in Triangle), or in
+    /// the part a hole seed removes.
+    pub seeds_overridden: Vec<(SeedName, SeedName)>,
     /// Input segments with no element on either side, in the input's numbering: a wake line
     /// beyond the outer boundary or inside a hole, a body outside the far field. They bound
     /// nothing and are in no output.
@@ -127,6 +131,9 @@ impl fmt::Display for RecoveryHistory {
                 "warning: {what} seed {k} lies outside the domain (beyond its outer boundary) \
                  and does nothing"
             )?;
+        }
+        for &(seed, by) in &self.seeds_overridden {
+            writeln!(f, "warning: {}", overridden_message(seed, by))?;
         }
         if !self.segments_outside.is_empty() {
             let shown: Vec<String> = self
@@ -379,8 +386,9 @@ impl BoundaryRecovery {
                 cdt = self.split_and_recover(&mut state, cdt, &splits, &mut history)?;
             }
         }
-        let (region_attributes, seeds_outside) = classify(&mut cdt, plc)?;
-        history.seeds_outside = seeds_outside;
+        let (region_attributes, seeds) = classify(&mut cdt, plc)?;
+        history.seeds_outside = seeds.outside;
+        history.seeds_overridden = seeds.overridden;
         let mut point_markers = plc.point_markers.clone();
         point_markers.resize(n_input, 0);
         let edges = state

@@ -65,6 +65,7 @@
 //! classified by the flood fill of [`crate::classify3`].
 
 use crate::apriori3::a_priori_points;
+use crate::classify::{overridden_message, SeedName};
 use crate::classify3::{classify3, OUTSIDE};
 use crate::error::RecoveryError;
 use crate::planar::{flip_planar_diagonals, Flatness, Patches};
@@ -195,7 +196,9 @@ pub struct RecoveryHistory3 {
     pub tetrahedra_inside: usize,
     /// Hole and region seeds outside every closed surface, which do nothing: `("hole" |
     /// "region", number)` in the input's numbering (as in 2D).
-    pub seeds_outside: Vec<(&'static str, u64)>,
+    pub seeds_outside: Vec<SeedName>,
+    /// Seeds another seed overrides, as (overridden, winner), as in 2D.
+    pub seeds_overridden: Vec<(SeedName, SeedName)>,
 }
 
 impl RecoveryHistory3 {
@@ -357,6 +360,9 @@ impl fmt::Display for RecoveryHistory3 {
                 "Warning: {what} seed {k} lies outside the domain (outside every closed \
                  surface) and does nothing"
             )?;
+        }
+        for &(seed, by) in &self.seeds_overridden {
+            writeln!(f, "Warning: {}", overridden_message(seed, by))?;
         }
         Ok(())
     }
@@ -896,8 +902,9 @@ impl BoundaryRecovery3 {
         }
 
         history.final_surface_faces = faces.len();
-        let (region_attributes, seeds_outside) = classify3(&mut ct, plc)?;
-        history.seeds_outside = seeds_outside;
+        let (region_attributes, seeds) = classify3(&mut ct, plc)?;
+        history.seeds_outside = seeds.outside;
+        history.seeds_overridden = seeds.overridden;
         for c in ct.triangulation().cells() {
             if ct.tag(c) == OUTSIDE {
                 history.tetrahedra_outside += 1;

@@ -386,6 +386,68 @@ fn seeds_beyond_the_outer_boundary_are_reported() {
 }
 
 #[test]
+fn overridden_seeds_are_reported() {
+    // A square cut in two by a wall. Left: two region seeds with different attributes (the
+    // last wins), then one with the winner's attribute (harmless). Right: a hole seed and a
+    // region seed (the hole removes it).
+    let points = vec![
+        [-2.0, -2.0],
+        [0.0, -2.0],
+        [2.0, -2.0],
+        [2.0, 2.0],
+        [0.0, 2.0],
+        [-2.0, 2.0],
+    ];
+    let mut segments: Vec<Segment> = (0..6)
+        .map(|i| Segment {
+            a: i,
+            b: (i + 1) % 6,
+            marker: 1,
+        })
+        .collect();
+    segments.push(Segment {
+        a: 1,
+        b: 4,
+        marker: 2,
+    });
+    let seed = |x: f64, y: f64, attribute: f64| RegionSeed {
+        point: [x, y],
+        attribute,
+        max_area: None,
+    };
+    let plc = Plc2 {
+        points,
+        segments,
+        holes: vec![[1.0, 0.0]],
+        regions: vec![
+            seed(-1.0, 0.0, 1.0),
+            seed(-1.0, 1.0, 2.0),
+            seed(1.0, 1.0, 3.0),
+            seed(-1.0, -1.0, 2.0),
+        ],
+        first_index: 1,
+        ..Default::default()
+    };
+    for method in METHODS {
+        let mesh = BoundaryRecovery::new(method).run(&plc).unwrap();
+        assert_eq!(
+            mesh.history.seeds_overridden,
+            [(("region", 1), ("region", 2)), (("region", 3), ("hole", 1))],
+            "{method:?}"
+        );
+        let text = mesh.history.to_string();
+        assert!(
+            text.contains(
+                "warning: region seeds 1 and 2 lie in the same region with different \
+                 attributes: seed 2's is used"
+            ) && text.contains("warning: region seed 3 lies in the part hole seed 1 removes"),
+            "{text}"
+        );
+        assert!(mesh.history.seeds_outside.is_empty());
+    }
+}
+
+#[test]
 fn segments_outside_the_domain_are_reported() {
     // A square with a square hole; a wake line beyond the outer boundary and one inside the
     // hole bound nothing: the history names them (in the input's numbering), and not the

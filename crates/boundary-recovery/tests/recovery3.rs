@@ -374,22 +374,31 @@ fn cube_alone() {
 #[test]
 fn seeds_outside_every_surface_are_reported() {
     // A hole seed and a region seed beyond the cube (a wrong coordinate, other units) do
-    // nothing: the history names them; the seed inside is not named.
+    // nothing: the history names them; the seeds inside are not named as outside.
     let (p, t) = box_surface([0.0; 3], [1.0; 3], 2, true);
     let mut plc = Plc3::default();
     add_surface(&mut plc, &p, &t, 1);
     plc.first_index = 1;
     plc.holes = vec![[5.0, 5.0, 5.0]];
-    plc.regions = [[0.5, 0.5, 0.5], [-3.0, 0.5, 0.5]]
-        .map(|point| RegionSeed3 {
-            point,
-            attribute: 2.0,
-            max_volume: None,
-        })
-        .to_vec();
+    plc.regions = [
+        ([0.5, 0.5, 0.5], 2.0),
+        ([-3.0, 0.5, 0.5], 2.0),
+        ([0.25, 0.25, 0.25], 4.0),
+    ]
+    .map(|(point, attribute)| RegionSeed3 {
+        point,
+        attribute,
+        max_volume: None,
+    })
+    .to_vec();
     let mesh = BoundaryRecovery3::default().run(&plc).unwrap();
     check(&plc, &mesh, 1.0);
     assert_eq!(mesh.history.seeds_outside, [("region", 2), ("hole", 1)]);
+    // Seeds 1 and 3 name one region with two attributes: the last wins, with a warning.
+    assert_eq!(
+        mesh.history.seeds_overridden,
+        [(("region", 1), ("region", 3))]
+    );
     assert!(
         mesh.history
             .to_string()
