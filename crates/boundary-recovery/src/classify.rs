@@ -18,7 +18,7 @@ use crate::plc::Plc2;
 use crate::union_find::UnionFind;
 use delmesh_delaunay_core::{CellId, ConstrainedTriangulation2, Location};
 use delmesh_predicates::{orient2d, Sign};
-use std::collections::VecDeque;
+use std::collections::{HashMap, VecDeque};
 
 /// The tag of cells outside the domain (and in holes).
 pub const OUTSIDE: u32 = u32::MAX;
@@ -139,9 +139,9 @@ pub(crate) fn seeds_outside(
 }
 
 /// Seeds that another seed overrides (same numbering as [`seeds_outside`]), as (overridden,
-/// winner): a region seed in the same region as a later one with another attribute (the last
-/// wins), a region seed in the part a hole seed removes. Seeds outside the domain are left to
-/// [`seeds_outside`]. Shared by the 2D and 3D flood fills.
+/// winner), in order: a region seed in the same region as the next one there with another
+/// attribute (the last wins), a region seed in the part a hole seed removes. Seeds outside the
+/// domain are left to [`seeds_outside`]. Shared by the 2D and 3D flood fills.
 pub(crate) fn overridden_seeds(
     components: &Components,
     regions: &[(Option<usize>, f64)],
@@ -149,25 +149,29 @@ pub(crate) fn overridden_seeds(
     base: u64,
 ) -> Vec<(SeedName, SeedName)> {
     let inside = |comp: &Option<usize>| comp.filter(|&c| !components.exterior[c]);
+    // The first hole seed of each component, and the last region seed seen so far.
+    let mut hole_in: HashMap<usize, usize> = HashMap::new();
+    for (h, comp) in holes.iter().enumerate() {
+        if let Some(c) = inside(comp) {
+            hole_in.entry(c).or_insert(h);
+        }
+    }
+    let mut last: HashMap<usize, usize> = HashMap::new();
     let mut out = Vec::new();
     for (k, (comp, attribute)) in regions.iter().enumerate() {
         let Some(c) = inside(comp) else {
             continue;
         };
-        // The next seed of the same region decides (and is itself checked against the next).
-        let later = regions[k + 1..]
-            .iter()
-            .position(|(other, _)| inside(other) == Some(c));
-        if let Some(j) = later {
-            let j = k + 1 + j;
+        let name = ("region", k as u64 + base);
+        if let Some(&h) = hole_in.get(&c) {
+            out.push((name, ("hole", h as u64 + base)));
+        } else if let Some(j) = last.insert(c, k) {
             if regions[j].1.to_bits() != attribute.to_bits() {
-                out.push((("region", k as u64 + base), ("region", j as u64 + base)));
+                out.push((("region", j as u64 + base), name));
             }
         }
-        if let Some(h) = holes.iter().position(|hole| inside(hole) == Some(c)) {
-            out.push((("region", k as u64 + base), ("hole", h as u64 + base)));
-        }
     }
+    out.sort_unstable();
     out
 }
 

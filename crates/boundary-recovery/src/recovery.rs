@@ -79,8 +79,8 @@ pub struct RecoveryHistory {
     /// the part a hole seed removes.
     pub seeds_overridden: Vec<(SeedName, SeedName)>,
     /// Input segments with no element on either side, in the input's numbering: a wake line
-    /// beyond the outer boundary or inside a hole, a body outside the far field. They bound
-    /// nothing and are in no output.
+    /// beyond the outer boundary or inside a hole. They bound nothing and are in no output.
+    /// (A closed loop beyond the outer boundary is another body, meshed.)
     pub segments_outside: Vec<u64>,
 }
 

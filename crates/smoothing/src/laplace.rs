@@ -203,7 +203,8 @@ impl Rows {
         let m = self.ring.len() - first - 1;
         self.ring[first] = self.ring[first + m];
         self.degree.push(m as u32);
-        while (self.ring.len() - first - 1) % LANES != 0 {
+        // At least one whole group of lanes, whatever the ring (the gathers read one).
+        while (self.ring.len() - first - 1) % LANES != 0 || self.ring.len() - first == 1 {
             self.ring.push(own);
         }
         self.start.push(self.ring.len() as u32);
