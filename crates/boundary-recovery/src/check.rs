@@ -33,7 +33,7 @@ pub(crate) struct CheckedPlc {
 /// The marker of a segment given twice (or of a piece two overlapping segments share), from
 /// each occurrence's marker and number: the same, or the one that is not 0 (none); two
 /// different markers are an error naming both segments.
-fn agreed_marker(first: (i32, u64), repeat: (i32, u64)) -> Result<i32, RecoveryError> {
+pub(crate) fn agreed_marker(first: (i32, u64), repeat: (i32, u64)) -> Result<i32, RecoveryError> {
     match (first.0, repeat.0) {
         (m, n) if m == n || n == 0 => Ok(m),
         (0, n) => Ok(n),

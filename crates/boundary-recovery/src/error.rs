@@ -35,10 +35,10 @@ pub enum RecoveryError {
         /// Second end.
         b: u64,
     },
-    /// The same segment is given twice with different boundary markers (which one the edge
-    /// carries would be a guess).
+    /// The same segment is given twice, or two collinear segments overlap, with different
+    /// boundary markers (which one the shared edges carry would be a guess).
     #[error(
-        "segments {first} and {second} join the same points with different markers ({first_marker} and {second_marker})"
+        "segments {first} and {second} overlap with different markers ({first_marker} and {second_marker}): which one the shared edges carry would be a guess"
     )]
     ConflictingMarkers {
         /// The first occurrence.

@@ -4,7 +4,9 @@
 use crate::classify::OUTSIDE;
 use crate::recovery::Mesh2;
 use delmesh_delaunay_core::{CellId, Renumbering, VertexId};
+use delmesh_predicates::{orient2d, Sign};
 use rayon::prelude::*;
+use rustc_hash::FxHashMap as HashMap;
 
 /// A mesh as flat arrays, vertices renumbered: input points first in input order, then the
 /// points added by recovery and generation in order of creation. Vertices used by no element
@@ -88,26 +90,58 @@ impl Mesh2 {
         }
     }
 
-    /// The input segments (0-based) none of whose edges has an element on either side, in
-    /// increasing order.
-    pub(crate) fn segments_outside(&self) -> Vec<u32> {
-        let mut bounding: Vec<u32> = self
-            .edges
-            .iter()
-            .filter(|e| self.oriented(e.a, e.b).is_some())
-            .map(|e| e.segment)
-            .collect();
-        bounding.sort_unstable();
-        bounding.dedup();
-        let mut outside: Vec<u32> = self
-            .edges
-            .iter()
-            .map(|e| e.segment)
-            .filter(|k| bounding.binary_search(k).is_err())
-            .collect();
-        outside.sort_unstable();
-        outside.dedup();
-        outside
+    /// The input segments (0-based, as `segments` lists their end points in the input's
+    /// numbering) with no element on either side: all of them (first list), or some piece
+    /// (second list), in increasing order. Each segment's pieces are found along it, so a
+    /// segment lying on another (whose pieces carry the other's number) is judged too.
+    pub(crate) fn segments_outside(&self, segments: &[(u32, u32)]) -> (Vec<u32>, Vec<u32>) {
+        let tri = self.cdt.triangulation();
+        // The boundary edges at each vertex, with whether they bound an element.
+        let mut at: HashMap<VertexId, Vec<(VertexId, bool)>> = HashMap::default();
+        for e in &self.edges {
+            let bounds = self.oriented(e.a, e.b).is_some();
+            at.entry(e.a).or_default().push((e.b, bounds));
+            at.entry(e.b).or_default().push((e.a, bounds));
+        }
+        let (mut outside, mut partly) = (Vec::new(), Vec::new());
+        for (k, &(a, b)) in segments.iter().enumerate() {
+            let (a, b) = (
+                tri.vertex_of_input(a as usize),
+                tri.vertex_of_input(b as usize),
+            );
+            let (pa, pb) = (tri.vertex(a), tri.vertex(b));
+            let along =
+                |p: [f64; 2]| (p[0] - pa[0]) * (pb[0] - pa[0]) + (p[1] - pa[1]) * (pb[1] - pa[1]);
+            // From a towards b, piece by piece: the next is the edge to a vertex on a b
+            // (exactly) farther along. A segment whose walk breaks off (not expected) is
+            // not named.
+            let (mut u, mut pieces, mut bounding) = (a, 0usize, 0usize);
+            while u != b && pieces <= self.edges.len() {
+                let next = at.get(&u).and_then(|edges| {
+                    edges.iter().copied().find(|&(w, _)| {
+                        let pw = tri.vertex(w);
+                        orient2d(pa, pb, pw) == Sign::Zero
+                            && along(pw) > along(tri.vertex(u))
+                            && along(pw) <= along(pb)
+                    })
+                });
+                let Some((w, bounds)) = next else {
+                    break;
+                };
+                pieces += 1;
+                bounding += usize::from(bounds);
+                u = w;
+            }
+            if u != b || pieces == 0 {
+                continue;
+            }
+            if bounding == 0 {
+                outside.push(k as u32);
+            } else if bounding < pieces {
+                partly.push(k as u32);
+            }
+        }
+        (outside, partly)
     }
 
     /// Renumbers the triangulation's vertices and cells along a space-filling curve, for the

@@ -16,7 +16,7 @@
 //! - [`RecoveryMethod::Constrained`], beyond the paper: missing segments are inserted by edge
 //!   flips, so no point is added on the boundary (a constrained Delaunay triangulation).
 
-use crate::check::{check, CheckedPlc};
+use crate::check::{agreed_marker, check, CheckedPlc};
 use crate::classify::{classify, overridden_message, SeedName, OUTSIDE};
 use crate::error::RecoveryError;
 use crate::plc::{spacing_for_area, Plc2};
@@ -26,6 +26,7 @@ use delmesh_delaunay_core::{
 };
 use delmesh_predicates::{orient2d, Sign};
 use rustc_hash::FxHashMap as HashMap;
+use std::collections::hash_map::Entry;
 use std::fmt;
 use std::sync::Arc;
 
@@ -82,6 +83,10 @@ pub struct RecoveryHistory {
     /// beyond the outer boundary or inside a hole. They bound nothing and are in no output.
     /// (A closed loop beyond the outer boundary is another body, meshed.)
     pub segments_outside: Vec<u64>,
+    /// Input segments with a piece that has no element on either side (a wake line running
+    /// past the far field, a boundary stretch a hole shares), in the input's numbering: that
+    /// piece is in no output.
+    pub segments_partly_outside: Vec<u64>,
 }
 
 impl RecoveryHistory {
@@ -135,33 +140,46 @@ impl fmt::Display for RecoveryHistory {
         for &(seed, by) in &self.seeds_overridden {
             writeln!(f, "warning: {}", overridden_message(seed, by))?;
         }
-        if !self.segments_outside.is_empty() {
-            let shown: Vec<String> = self
-                .segments_outside
-                .iter()
-                .take(MERGED_SHOWN)
-                .map(u64::to_string)
-                .collect();
-            let more = self.segments_outside.len().saturating_sub(MERGED_SHOWN);
-            let (noun, verb) = if self.segments_outside.len() == 1 {
-                ("segment", "lies")
-            } else {
-                ("segments", "lie")
-            };
+        if let Some(list) = numbers(&self.segments_outside) {
+            let (noun, verb) = plural(self.segments_outside.len());
             writeln!(
                 f,
-                "warning: {noun} {}{} {verb} outside the domain (no element on either side) \
-                 and {} in no output",
-                shown.join(", "),
-                if more > 0 {
-                    format!(", and {more} more,")
-                } else {
-                    String::new()
-                },
-                if noun == "segment" { "is" } else { "are" }
+                "warning: {noun} {list} {verb} outside the domain (no element on either side) \
+                 and in no output"
+            )?;
+        }
+        if let Some(list) = numbers(&self.segments_partly_outside) {
+            let (noun, verb) = plural(self.segments_partly_outside.len());
+            writeln!(
+                f,
+                "warning: {noun} {list} {verb} partly outside the domain: the pieces with no \
+                 element on either side are in no output"
             )?;
         }
         Ok(())
+    }
+}
+
+/// The first few of `list` (see [`MERGED_SHOWN`]) as `5, 6, 9, and 4 more`, if any.
+fn numbers(list: &[u64]) -> Option<String> {
+    if list.is_empty() {
+        return None;
+    }
+    let shown: Vec<String> = list.iter().take(MERGED_SHOWN).map(u64::to_string).collect();
+    let more = list.len().saturating_sub(MERGED_SHOWN);
+    Some(if more > 0 {
+        format!("{}, and {more} more", shown.join(", "))
+    } else {
+        shown.join(", ")
+    })
+}
+
+/// "segment lies" or "segments lie".
+fn plural(n: usize) -> (&'static str, &'static str) {
+    if n == 1 {
+        ("segment", "lies")
+    } else {
+        ("segments", "lie")
     }
 }
 
@@ -411,11 +429,11 @@ impl BoundaryRecovery {
             history,
         };
         let base = u64::from(plc.first_index);
-        mesh.history.segments_outside = mesh
-            .segments_outside()
-            .into_iter()
-            .map(|k| u64::from(k) + base)
-            .collect();
+        let ends: Vec<(u32, u32)> = plc.segments.iter().map(|s| (s.a, s.b)).collect();
+        let (outside, partly) = mesh.segments_outside(&ends);
+        let named = |list: Vec<u32>| list.into_iter().map(|k| u64::from(k) + base).collect();
+        mesh.history.segments_outside = named(outside);
+        mesh.history.segments_partly_outside = named(partly);
         Ok(mesh)
     }
 
@@ -663,17 +681,33 @@ impl<'a> State<'a> {
         history.passes.push(pass);
         // A vertex found inside a segment splits it there (as the input checks do for
         // the other methods); pieces that overlapping collinear segments share are
-        // kept once.
+        // kept once, their markers agreeing as the input checks require.
         let mut work: Vec<Sub> = std::mem::take(&mut self.subs);
         work.reverse();
-        let mut present = rustc_hash::FxHashSet::default();
+        let mut present: rustc_hash::FxHashMap<(VertexId, VertexId), usize> = Default::default();
+        let base = u64::from(self.plc.first_index);
         while let Some(s) = work.pop() {
             match cdt.insert_segment(s.a, s.b) {
-                Ok(()) => {
-                    if present.insert((s.a.min(s.b), s.a.max(s.b))) {
+                Ok(()) => match present.entry((s.a.min(s.b), s.a.max(s.b))) {
+                    Entry::Vacant(slot) => {
+                        slot.insert(self.subs.len());
                         self.subs.push(s);
                     }
-                }
+                    Entry::Occupied(slot) => {
+                        let kept = &mut self.subs[*slot.get()];
+                        let named = |k: u32| {
+                            let segment = &self.checked.segments[k as usize];
+                            (
+                                segment.marker,
+                                u64::from(self.checked.origin[k as usize]) + base,
+                            )
+                        };
+                        let marker = agreed_marker(named(kept.segment), named(s.segment))?;
+                        if marker != named(kept.segment).0 {
+                            kept.segment = s.segment;
+                        }
+                    }
+                },
                 Err(ConstraintError::VertexOnSegment { vertex, .. }) => {
                     work.push(Sub { a: vertex, ..s });
                     work.push(Sub { b: vertex, ..s });

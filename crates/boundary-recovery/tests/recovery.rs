@@ -319,15 +319,19 @@ fn a_segment_given_twice_keeps_one_marker_or_is_an_error() {
         marker: first.marker + 6,
         ..first
     });
-    let err = BoundaryRecovery::default().run(&plc).unwrap_err();
-    assert_eq!(
-        err.to_string(),
-        format!(
-            "segments 1 and 7 join the same points with different markers ({} and {})",
-            first.marker,
-            first.marker + 6
-        )
-    );
+    for method in METHODS {
+        let err = BoundaryRecovery::new(method).run(&plc).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "segments 1 and 7 overlap with different markers ({} and {}): which one the \
+                 shared edges carry would be a guess",
+                first.marker,
+                first.marker + 6
+            ),
+            "{method:?}"
+        );
+    }
     // A collinear segment overlapping half of the bottom side with another marker: the piece
     // they share is named by both.
     let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
@@ -337,19 +341,22 @@ fn a_segment_given_twice_keeps_one_marker_or_is_an_error() {
         b: 4,
         marker: 9,
     });
-    let err = BoundaryRecovery::default().run(&plc).unwrap_err();
-    assert!(
-        matches!(
-            err,
-            RecoveryError::ConflictingMarkers {
-                first: 0,
-                second: 4,
-                second_marker: 9,
-                ..
-            }
-        ),
-        "{err}"
-    );
+    // (All methods: the constrained one finds the shared piece while inserting.)
+    for method in METHODS {
+        let err = BoundaryRecovery::new(method).run(&plc).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                RecoveryError::ConflictingMarkers {
+                    first: 0,
+                    second: 4,
+                    second_marker: 9,
+                    ..
+                }
+            ),
+            "{method:?}: {err}"
+        );
+    }
 }
 
 #[test]
@@ -382,6 +389,65 @@ fn seeds_beyond_the_outer_boundary_are_reported() {
             .history
             .to_string()
             .contains("warning: hole seed 1 lies outside the domain"));
+    }
+}
+
+#[test]
+fn a_segment_along_the_hull_through_a_vertex_is_recovered_by_every_method() {
+    // A zero-area loop beside the square, on the hull: its closing segment runs back over the
+    // other two, along the hull, through the middle vertex (found by fuzzing: the
+    // constrained recovery missed a hull neighbour on the segment and failed).
+    let mut plc = plc_of(&[square([5.0, 5.0], 5.0, true)]);
+    plc.points.extend([[12.0, 2.0], [15.0, 5.0], [18.0, 8.0]]);
+    for (a, b) in [(4, 5), (5, 6), (6, 4)] {
+        plc.segments.push(Segment { a, b, marker: 2 });
+    }
+    for method in METHODS {
+        let mesh = BoundaryRecovery::new(method).run(&plc).unwrap();
+        // The closing segment's pieces are the other two's: named all the same.
+        assert_eq!(mesh.history.segments_outside, [4, 5, 6], "{method:?}");
+        assert!((mesh.area() - 100.0).abs() < 1e-9, "{method:?}");
+    }
+}
+
+#[test]
+fn segments_partly_outside_the_domain_are_reported() {
+    // A notch hole sharing a stretch of the bottom side (its own bottom segment lies on the
+    // outer one), and a wake line from the right side to beyond it: the notch's bottom is
+    // outside, the bottom side and the wake partly.
+    let mut plc = plc_of(&[square([5.0, 5.0], 5.0, true)]);
+    let notch = [[3.0, 0.0], [6.0, 0.0], [6.0, 3.0], [3.0, 3.0]];
+    plc.points.extend(notch);
+    for i in 0..4 {
+        plc.segments.push(Segment {
+            a: 4 + i,
+            b: 4 + (i + 1) % 4,
+            marker: 3,
+        });
+    }
+    plc.holes = vec![[4.0, 1.0]];
+    // (Through a point on the right side, which the wake would otherwise cross.)
+    plc.points.extend([[8.0, 5.0], [15.0, 5.0], [10.0, 5.0]]);
+    plc.segments.push(Segment {
+        a: 8,
+        b: 9,
+        marker: 4,
+    });
+    // The notch's bottom lies on the side: the same marker.
+    plc.segments[4].marker = 1;
+    for method in METHODS {
+        let mesh = BoundaryRecovery::new(method).run(&plc).unwrap();
+        assert_eq!(mesh.history.segments_outside, [4], "{method:?}");
+        assert_eq!(mesh.history.segments_partly_outside, [0, 8], "{method:?}");
+        assert!((mesh.area() - 91.0).abs() < 1e-9, "{method:?}");
+        assert!(
+            mesh.history.to_string().contains(
+                "warning: segments 0, 8 lie partly outside the domain: the pieces with no \
+                 element on either side are in no output"
+            ),
+            "{}",
+            mesh.history
+        );
     }
 }
 
@@ -485,7 +551,7 @@ fn segments_outside_the_domain_are_reported() {
         assert!(
             mesh.history.to_string().contains(
                 "warning: segments 9, 10 lie outside the domain (no element on either side) \
-                 and are in no output"
+                 and in no output"
             ),
             "{}",
             mesh.history

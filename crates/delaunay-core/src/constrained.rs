@@ -733,8 +733,11 @@ impl ConstrainedTriangulation2 {
             let (u, w) = (s.v[next(k)], s.v[prev(k)]);
             if !u.is_ghost() && !w.is_ghost() {
                 let (ou, ow) = (orient2d(pa, pb, self.pt(u)), orient2d(pa, pb, self.pt(w)));
-                if ou == Sign::Zero && on_segment(u) {
-                    return Err(ConstraintError::VertexOnSegment { a, b, vertex: u });
+                // Both: a neighbour along the hull is in one finite cell only, as either.
+                for (o, x) in [(ou, u), (ow, w)] {
+                    if o == Sign::Zero && on_segment(x) {
+                        return Err(ConstraintError::VertexOnSegment { a, b, vertex: x });
+                    }
                 }
                 if ou == Sign::Negative && ow == Sign::Positive {
                     (near, f, r, l) = (c, k, u, w);
