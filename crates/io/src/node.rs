@@ -127,7 +127,9 @@ pub(crate) fn parse_node_section(
                 ),
             ));
         };
-        if toks.len() != n_fields {
+        // Attributes and the marker the line leaves out read as 0, as Triangle reads them;
+        // the index and coordinates must be there.
+        if toks.len() < 1 + dim || toks.len() > n_fields {
             return Err(err(
                 line,
                 format!(
@@ -167,7 +169,10 @@ pub(crate) fn parse_node_section(
             coords.push(parse_coord(toks[1 + d], axis, file, line)?);
         }
         for a in 0..n_attr {
-            let tok = toks[1 + dim + a];
+            let Some(&tok) = toks.get(1 + dim + a) else {
+                attr_flat.push(0.0);
+                continue;
+            };
             let value = tok.parse::<f64>().map_err(|_| {
                 err(
                     line,
@@ -181,7 +186,11 @@ pub(crate) fn parse_node_section(
             attr_flat.push(value);
         }
         if n_mark == 1 {
-            let tok = toks[n_fields - 1];
+            let Some(&tok) = toks.get(n_fields - 1) else {
+                markers.push(0);
+                found += 1;
+                continue;
+            };
             markers.push(tok.parse::<i32>().map_err(|_| {
                 err(
                     line,

@@ -147,8 +147,9 @@ pub(crate) fn parse_poly_with(
         let Some((line, toks)) = lines.get(next + k) else {
             return Err(eof(&format!("{nseg} segments (found {k})")));
         };
+        // A marker the line leaves out reads as 0, as Triangle reads it.
         let want = 3 + smark as usize;
-        if toks.len() != want {
+        if toks.len() < 3 || toks.len() > want {
             return Err(err(
                 *line,
                 format!("expected {want} fields for a segment, found {}", toks.len()),
@@ -170,8 +171,8 @@ pub(crate) fn parse_poly_with(
             ends[e] = (v - base) as u32;
         }
         segments.push(ends);
-        segment_markers.push(if smark == 1 {
-            let m = int(toks[3], *line, "segment marker")?;
+        segment_markers.push(if let (1, Some(&tok)) = (smark, toks.get(3)) {
+            let m = int(tok, *line, "segment marker")?;
             // (Markers are 32-bit, as Triangle's and every writer's.)
             i32::try_from(m).map_err(|_| {
                 err(
@@ -398,11 +399,14 @@ mod tests {
         let cut = &SQUARE[..SQUARE.find("1\n1 2 2").unwrap()];
         let e = parse_poly(cut, Path::new("c.poly")).unwrap_err();
         assert!(e.to_string().contains("hole header"), "{e}");
-        let e = parse_poly(&SQUARE.replace("1 1 2 5", "1 1 2"), Path::new("d.poly")).unwrap_err();
+        let e = parse_poly(&SQUARE.replace("1 1 2 5", "1 1"), Path::new("d.poly")).unwrap_err();
         assert_eq!(
             e.to_string(),
-            "d.poly:12: expected 4 fields for a segment, found 3"
+            "d.poly:12: expected 4 fields for a segment, found 2"
         );
+        // A marker the line leaves out reads as 0, as Triangle reads it.
+        let p = parse_poly(&SQUARE.replace("1 1 2 5", "1 1 2"), Path::new("d.poly")).unwrap();
+        assert_eq!(p.segment_markers[0], 0);
         let e = parse_poly(
             &SQUARE.replace("5 5 8 6", "5 5 8 2147483648"),
             Path::new("m.poly"),

@@ -97,14 +97,25 @@ fn empty_point_set() {
 
 #[test]
 fn error_display_names_file_and_line() {
-    let err = parse("2 2 0 1\n0 0 0 1\n1 1 1\n").unwrap_err();
+    let err = parse("2 2 0 1\n0 0 0 1\n1 1\n").unwrap_err();
     assert_eq!(err.line(), Some(3));
     assert_eq!(err.file(), Path::new("points.node"));
     let shown = err.to_string();
     assert!(
-        shown.starts_with("points.node:3: expected 4 fields, found 3"),
+        shown.starts_with("points.node:3: expected 4 fields, found 2"),
         "{shown}"
     );
+}
+
+#[test]
+fn attributes_and_markers_a_line_leaves_out_read_as_zero() {
+    // As Triangle reads them: the header declares two attributes and a marker, the second
+    // line gives one attribute and no marker, the third neither.
+    let p = parse("3 2 2 1\n0 0 0 5 6 1\n1 1 0 7\n2 0 1\n").unwrap();
+    assert_eq!(p.attributes, vec![vec![5.0, 7.0, 0.0], vec![6.0, 0.0, 0.0]]);
+    assert_eq!(p.markers, Some(vec![1, 0, 0]));
+    // More fields than declared are still an error (a header that miscounts them).
+    assert!(parse("1 2 0 0\n0 0 0 9\n").is_err());
 }
 
 #[test]
