@@ -1282,3 +1282,26 @@ fn quad_cube(n: u32) -> (Vec<P>, Vec<PolygonFacet>) {
     }
     (points, facets)
 }
+
+#[test]
+fn a_shared_face_given_twice_with_other_diagonals_is_named_as_such() {
+    // Two unit cubes side by side, each closed: the face they share is given by both, cut
+    // along different diagonals. The four overlapping pairs lie in one plane, and the message
+    // says what that most likely is.
+    let (p, mut t) = cube([1.0, 0.0, 0.0], 1.0);
+    let x0 = t.iter().position(|f| *f == [0, 4, 6]).unwrap();
+    t[x0] = [0, 4, 2];
+    t[x0 + 1] = [4, 6, 2];
+    let plc = union(&[cube([0.0; 3], 1.0), (p, t)]);
+    match check_surface(&plc) {
+        Err(e @ SurfaceError::SelfIntersection { coplanar, .. }) => {
+            assert_eq!(coplanar, 4, "{e}");
+            assert!(
+                e.to_string()
+                    .contains("4 of these pairs overlap in one plane: a face two bodies share"),
+                "{e}"
+            );
+        }
+        other => panic!("expected a self-intersection, got {other:?}"),
+    }
+}

@@ -11,7 +11,7 @@ use super::volume::{signed_volume, wind, Surface, Winding};
 use super::{CheckedSurface, Junction, SurfaceComponent, SurfaceEdge};
 use crate::plc3::{Plc3, SurfaceTriangle};
 use crate::union_find::UnionFind;
-use delmesh_predicates::{Sign, COORDINATE_RANGE};
+use delmesh_predicates::{orient3d, Sign, COORDINATE_RANGE};
 use rayon::prelude::*;
 
 /// The power-of-two scale bringing the largest coordinate magnitude into `[0.5, 1)` and the
@@ -448,7 +448,16 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
     }
     let crossing = intersecting_pairs(&spts, &tv, &boxes);
     if !crossing.is_empty() {
+        // Pairs in one plane: most often a face two bodies share, given by each (cut along
+        // different diagonals), which the message then says.
+        let in_plane = |i: u32, j: u32| {
+            let [a, b, c] = tv[i as usize].map(|v| spts[v as usize]);
+            tv[j as usize]
+                .iter()
+                .all(|&v| orient3d(a, b, c, spts[v as usize]) == Sign::Zero)
+        };
         return Err(SurfaceError::SelfIntersection {
+            coplanar: crossing.iter().filter(|&&(i, j)| in_plane(i, j)).count(),
             pairs: Listed::of(
                 crossing
                     .iter()

@@ -283,10 +283,12 @@ pub enum SurfaceError {
         hits: Listed<PointOnTriangle>,
     },
     /// Pairs of triangles that intersect other than in their shared corners or edge.
-    #[error("the surface intersects itself: {pairs}")]
+    #[error("the surface intersects itself: {pairs}{}", in_one_plane(*coplanar))]
     SelfIntersection {
         /// The intersecting pairs.
         pairs: Listed<TrianglePair>,
+        /// How many of them lie in one plane (overlapping).
+        coplanar: usize,
     },
     /// A polygonal facet has fewer than three distinct points, or all its points are collinear.
     #[error("facet {facet} is degenerate: {why}")]
@@ -373,4 +375,15 @@ pub enum SurfaceError {
         /// What the kernel said.
         source: ConstraintError,
     },
+}
+
+/// The hint for self-intersecting pairs of which `n` lie in one plane.
+fn in_one_plane(n: usize) -> String {
+    if n == 0 {
+        return String::new();
+    }
+    format!(
+        " ({n} of these pairs overlap in one plane: a face two bodies share, given by each \
+         and cut along different diagonals? give it once)"
+    )
 }
