@@ -71,6 +71,10 @@ pub struct RecoveryHistory {
     /// Input points that repeat an earlier one exactly, merged into it: (duplicate, first),
     /// in the input's numbering.
     pub merged_points: Vec<(u64, u64)>,
+    /// Merged duplicates whose boundary marker differs from the one the point they merge into
+    /// keeps: (duplicate, its marker, first, the kept marker), in the input's numbering. (A
+    /// duplicate's marker goes to a first point without one.)
+    pub merged_markers_dropped: Vec<(u64, i32, u64, i32)>,
     /// Hole and region seeds beyond the outer boundary, which do nothing: `("hole" |
     /// "region", number)` in the input's numbering (a seed with a wrong coordinate, or in
     /// other units, would otherwise go unnoticed).
@@ -128,6 +132,13 @@ impl fmt::Display for RecoveryHistory {
                 "duplicates merged: {} ({})",
                 self.merged_points.len(),
                 merged_list(&self.merged_points)
+            )?;
+        }
+        for &(d, dm, first, kept) in &self.merged_markers_dropped {
+            writeln!(
+                f,
+                "warning: point {d} repeats point {first} with boundary marker {dm}, dropped \
+                 (point {first} keeps {kept})"
             )?;
         }
         for (what, k) in &self.seeds_outside {
@@ -409,6 +420,24 @@ impl BoundaryRecovery {
         history.seeds_overridden = seeds.overridden;
         let mut point_markers = plc.point_markers.clone();
         point_markers.resize(n_input, 0);
+        // A duplicate's marker goes to the point it merges into if that has none; another
+        // marker there is kept, and the dropped one named in a warning.
+        for &(d, first) in &checked.merged {
+            let (d, first) = (d as usize, first as usize);
+            if d >= n_input || first >= n_input || point_markers[d] == point_markers[first] {
+                continue;
+            }
+            if point_markers[first] == 0 {
+                point_markers[first] = point_markers[d];
+            } else if point_markers[d] != 0 {
+                history.merged_markers_dropped.push((
+                    d as u64 + base,
+                    point_markers[d],
+                    first as u64 + base,
+                    point_markers[first],
+                ));
+            }
+        }
         let edges = state
             .subs
             .iter()

@@ -452,6 +452,28 @@ fn segments_partly_outside_the_domain_are_reported() {
 }
 
 #[test]
+fn a_duplicate_point_with_another_marker_is_reported_or_adopted() {
+    // Point 4 repeats corner 1 (marker 1) with marker 7: the corner keeps 1 and the dropped 7
+    // is named. Point 5 repeats corner 2 (no marker) with marker 9: the corner takes it.
+    let mut plc = plc_of(&[square([0.0, 0.0], 2.0, true)]);
+    plc.points.extend([plc.points[1], plc.points[2]]);
+    plc.point_markers = vec![0, 1, 0, 0, 7, 9];
+    for method in METHODS {
+        let mesh = BoundaryRecovery::new(method).run(&plc).unwrap();
+        assert_eq!(
+            mesh.history.merged_markers_dropped,
+            [(4, 7, 1, 1)],
+            "{method:?}"
+        );
+        assert_eq!(&mesh.point_markers[..3], [0, 1, 9], "{method:?}");
+        assert!(mesh
+            .history
+            .to_string()
+            .contains("warning: point 4 repeats point 1 with boundary marker 7, dropped"));
+    }
+}
+
+#[test]
 fn overridden_seeds_are_reported() {
     // A square cut in two by a wall. Left: two region seeds with different attributes (the
     // last wins), then one with the winner's attribute (harmless). Right: a hole seed and a
