@@ -173,16 +173,17 @@ impl fmt::Display for RecoveryHistory {
 
 /// The first few of `list` (see [`MERGED_SHOWN`]) as `5, 6, 9, and 4 more`, if any.
 fn numbers(list: &[u64]) -> Option<String> {
-    if list.is_empty() {
-        return None;
+    (!list.is_empty()).then(|| first_few(list, u64::to_string))
+}
+
+/// The first [`MERGED_SHOWN`] of `items`, each written by `name`, joined by commas, and how
+/// many more there are (`5, 6, 9, and 4 more`).
+fn first_few<T>(items: &[T], name: impl Fn(&T) -> String) -> String {
+    let shown: Vec<String> = items.iter().take(MERGED_SHOWN).map(name).collect();
+    match items.len().saturating_sub(MERGED_SHOWN) {
+        0 => shown.join(", "),
+        more => format!("{}, and {more} more", shown.join(", ")),
     }
-    let shown: Vec<String> = list.iter().take(MERGED_SHOWN).map(u64::to_string).collect();
-    let more = list.len().saturating_sub(MERGED_SHOWN);
-    Some(if more > 0 {
-        format!("{}, and {more} more", shown.join(", "))
-    } else {
-        shown.join(", ")
-    })
 }
 
 /// "segment lies" or "segments lie".
@@ -200,18 +201,10 @@ const MERGED_SHOWN: usize = 5;
 
 /// The first merged duplicates as `points 5 into 3, 9 into 1, and 4 more`.
 pub(crate) fn merged_list(merged: &[(u64, u64)]) -> String {
-    let shown: Vec<String> = merged
-        .iter()
-        .take(MERGED_SHOWN)
-        .map(|(d, first)| format!("{d} into {first}"))
-        .collect();
-    let more = merged.len().saturating_sub(MERGED_SHOWN);
-    let more = if more > 0 {
-        format!(", and {more} more")
-    } else {
-        String::new()
-    };
-    format!("points {}{more}", shown.join(", "))
+    format!(
+        "points {}",
+        first_few(merged, |(d, first)| format!("{d} into {first}"))
+    )
 }
 
 /// A boundary edge of the mesh: a piece of an input segment.
@@ -1093,4 +1086,23 @@ fn empty_circle(
     };
     let h = len * (t + (0.25 + t * t).sqrt());
     Some([m[0] + h * n[0], m[1] + h * n[1]])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_lists_show_the_first_few_and_count_the_rest() {
+        let seven: Vec<u64> = (1..=7).collect();
+        assert_eq!(numbers(&seven).unwrap(), "1, 2, 3, 4, 5, and 2 more");
+        assert_eq!(numbers(&[4]).unwrap(), "4");
+        assert_eq!(numbers(&[]), None);
+        assert_eq!(merged_list(&[(5, 2)]), "points 5 into 2");
+        let merged: Vec<(u64, u64)> = (10..16).map(|d| (d, 1)).collect();
+        assert_eq!(
+            merged_list(&merged),
+            "points 10 into 1, 11 into 1, 12 into 1, 13 into 1, 14 into 1, and 1 more"
+        );
+    }
 }
