@@ -22,6 +22,7 @@
 //! assert_eq!(mesh.area(), 12.0);
 //! # Ok::<(), delmesh_boundary_recovery::RecoveryError>(())
 //! ```
+#![forbid(unsafe_code)]
 
 mod apriori3;
 mod check;

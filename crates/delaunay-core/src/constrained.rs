@@ -20,6 +20,7 @@
 use crate::dim::{Dim, D2};
 use crate::error::{ConstraintError, TriangulationError};
 use crate::ids::{CellId, FacetRef, VertexId};
+use crate::prefetch::prefetch;
 use crate::triangulation::{Insertion, Location, Simplex, Triangulation};
 use delmesh_predicates::{orient2d, Sign};
 use rayon::prelude::*;
@@ -182,6 +183,45 @@ impl ConstrainedTriangulation2 {
     #[inline]
     pub fn changed_in(&self, c: CellId) -> u32 {
         self.info[c.index()].stamp
+    }
+
+    /// Starts loading cell `c` (its vertices, neighbours and constraints) into the cache, for a
+    /// caller that knows it will insert a point near it soon: point generation, which inserts
+    /// from a list, calls it several candidates ahead (see `prefetch.rs`). Only a hint: a
+    /// cell id out of range is ignored.
+    #[inline]
+    pub fn prefetch_cell(&self, c: CellId) {
+        if let (Some(s), Some(info)) = (self.tri.simplices.get(c.index()), self.info.get(c.index()))
+        {
+            prefetch(s);
+            prefetch(info);
+        }
+    }
+
+    /// Starts loading the coordinates of cell `c`'s vertices. It reads `c` itself, so it comes
+    /// a few steps after [`Self::prefetch_cell`] of the same cell.
+    #[inline]
+    pub fn prefetch_vertices(&self, c: CellId) {
+        if let Some(s) = self.tri.simplices.get(c.index()) {
+            for v in &s.v[..3] {
+                if let Some(p) = self.tri.points.get(v.index()) {
+                    prefetch(p);
+                }
+            }
+        }
+    }
+
+    /// Starts loading the cells across the edges of cell `c`, which the flips after an
+    /// insertion in `c` read. As [`Self::prefetch_vertices`], after [`Self::prefetch_cell`].
+    #[inline]
+    pub fn prefetch_neighbours(&self, c: CellId) {
+        if let Some(s) = self.tri.simplices.get(c.index()) {
+            for n in &s.n[..3] {
+                if let Some(t) = self.tri.simplices.get(n.cell().index()) {
+                    prefetch(t);
+                }
+            }
+        }
     }
 
     /// Number of cell slots (live, ghost or free): cell ids are below it.

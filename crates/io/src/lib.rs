@@ -54,6 +54,7 @@
 //! );
 //! # Ok::<(), delmesh_io::IoError>(())
 //! ```
+#![forbid(unsafe_code)]
 
 mod atomic;
 mod error;

@@ -186,6 +186,15 @@ fn triangles_in(area: f64, h: f64) -> f64 {
     area / (0.25 * 3f64.sqrt() * h * h)
 }
 
+/// How many cells ahead the evaluation of candidates and their insertion ask for a later cell
+/// (`ConstrainedTriangulation2::prefetch_cell`), and for what around it they will read
+/// (`prefetch_vertices`, `prefetch_neighbours`, which read the cell): at 10^6 triangles the
+/// mesh outgrows the cache and both otherwise wait on those loads. Measured at
+/// `pipeline2d 1000`: evaluation 90 → 65 ms, insertion 12–15% less; distances of 6–16 and
+/// 2–6 alike.
+const PREFETCH_CELL: usize = 8;
+const PREFETCH_AROUND: usize = 3;
+
 /// The most elements point generation makes: as many as 32-bit indices hold, with room.
 pub(crate) const MAX_ELEMENTS: f64 = (1u64 << 30) as f64;
 
@@ -326,23 +335,32 @@ impl PointGeneration {
             // Each accepted candidate with its Hilbert key (16 bits per axis, so 32 bits) above
             // its cell: sorting these keys is sorting by key, then cell.
             let bad = AtomicBool::new(false);
+            let cdt = &mesh.cdt;
             let mut todo: Vec<(u64, [f64; 2], f64, f64)> = cells
-                .par_iter()
-                .with_min_len(1 << 10)
-                .filter_map(
-                    |&c| match self.candidate(mesh, c, dp_now, coarsest, field) {
-                        Candidate::At { g, h, reach2 } => {
-                            let key = frame.key(g);
-                            debug_assert!(key < 1 << 32);
-                            Some(((key << 32) | u64::from(c.0), g, h, reach2))
+                .par_chunks(1 << 10)
+                .flat_map_iter(|chunk| {
+                    chunk.iter().enumerate().map(move |(k, &c)| {
+                        if let Some(&ahead) = chunk.get(k + PREFETCH_CELL) {
+                            cdt.prefetch_cell(ahead);
                         }
-                        Candidate::BadSpacing { .. } => {
-                            bad.store(true, Ordering::Relaxed);
-                            None
+                        if let Some(&ahead) = chunk.get(k + PREFETCH_AROUND) {
+                            cdt.prefetch_vertices(ahead);
                         }
-                        Candidate::Refused => None,
-                    },
-                )
+                        c
+                    })
+                })
+                .filter_map(|c| match self.candidate(mesh, c, dp_now, coarsest, field) {
+                    Candidate::At { g, h, reach2 } => {
+                        let key = frame.key(g);
+                        debug_assert!(key < 1 << 32);
+                        Some(((key << 32) | u64::from(c.0), g, h, reach2))
+                    }
+                    Candidate::BadSpacing { .. } => {
+                        bad.store(true, Ordering::Relaxed);
+                        None
+                    }
+                    Candidate::Refused => None,
+                })
                 .collect();
             if bad.into_inner() {
                 // The first bad spacing in the order of the cells.
@@ -378,10 +396,18 @@ impl PointGeneration {
             // insertions then read the candidates out of order: no faster, measured.)
             todo.par_sort_unstable_by_key(|t| t.0);
             let mut accepted = 0;
-            for &(key, g, h, reach2) in &todo {
+            for (k, &(key, g, h, reach2)) in todo.iter().enumerate() {
                 let c = CellId(key as u32);
                 if added >= self.max_points {
                     break;
+                }
+                if let Some(&(ahead, ..)) = todo.get(k + PREFETCH_CELL) {
+                    mesh.cdt.prefetch_cell(CellId(ahead as u32));
+                }
+                if let Some(&(ahead, ..)) = todo.get(k + PREFETCH_AROUND) {
+                    let ahead = CellId(ahead as u32);
+                    mesh.cdt.prefetch_vertices(ahead);
+                    mesh.cdt.prefetch_neighbours(ahead);
                 }
                 // An element an earlier insertion of this pass changed is not the one that
                 // made the candidate any more: it is looked at again in the next pass.

@@ -6,6 +6,7 @@
 //! by Weatherill's α criterion, in passes ([`GenerationReport`]); [`QualityRefinement`] then
 //! removes the few skinny elements left where the spacing changes fast, and [`AreaLimits`]
 //! makes sure no element is larger than its region's area limit ([`VolumeLimits`] in 3D).
+#![forbid(unsafe_code)]
 
 mod area;
 mod distance;

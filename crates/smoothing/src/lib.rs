@@ -14,6 +14,7 @@
 //! [`QualityReport`] measures a triangle mesh (angles, areas, the area ratio of neighbours),
 //! [`QualityReport3`] a tetrahedral one (dihedral angles, slivers, radius–edge ratio, volumes,
 //! the volume ratio of neighbours).
+#![forbid(unsafe_code)]
 
 mod adjacency;
 mod laplace;
