@@ -56,5 +56,5 @@ pub use recovery3::{
 pub use surface::{
     check_surface, first_occurrences, CheckedSurface, EdgeName, Junction, Listed, PointLocation,
     PointOnTriangle, PolygonFacet, SurfaceComponent, SurfaceEdge, SurfaceError, TJunctions,
-    TriangleName, TrianglePair, VertexName,
+    TriangleName, TrianglePair,
 };

@@ -256,7 +256,7 @@ impl fmt::Display for RecoveryHistory3 {
         if self.merged_to_single_precision {
             writeln!(
                 f,
-                "Warning: triangles flat to single precision (2^-20) were merged too: the surface moved by up to that"
+                "warning: triangles flat to single precision (2^-20) were merged too: the surface moved by up to that"
             )?;
         }
         if self.method == RecoveryMethod3::Constrained {
@@ -357,12 +357,12 @@ impl fmt::Display for RecoveryHistory3 {
         for (what, k) in &self.seeds_outside {
             writeln!(
                 f,
-                "Warning: {what} seed {k} lies outside the domain (outside every closed \
+                "warning: {what} seed {k} lies outside the domain (outside every closed \
                  surface) and does nothing"
             )?;
         }
         for &(seed, by) in &self.seeds_overridden {
-            writeln!(f, "Warning: {}", overridden_message(seed, by))?;
+            writeln!(f, "warning: {}", overridden_message(seed, by))?;
         }
         Ok(())
     }

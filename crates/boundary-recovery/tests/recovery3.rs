@@ -402,7 +402,7 @@ fn seeds_outside_every_surface_are_reported() {
     assert!(
         mesh.history
             .to_string()
-            .contains("Warning: hole seed 1 lies outside the domain"),
+            .contains("warning: hole seed 1 lies outside the domain"),
         "{}",
         mesh.history
     );

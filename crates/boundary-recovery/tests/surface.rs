@@ -437,20 +437,33 @@ fn bad_input_values() {
 }
 
 #[test]
-fn tetrahedra_touching_at_a_vertex_are_non_manifold() {
+fn surfaces_touching_at_a_point_are_accepted_and_nest() {
+    // Two tetrahedra meeting at point 0 only (the second mirrors the first): two fans of
+    // triangles around it. Two bodies side by side, neither inside the other.
     let mut points = TETRA_POINTS.to_vec();
     points.extend([[-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]]);
-    // The mirrored tetrahedron shares point 0.
     let tris = [
         TETRA,
         [[0, 5, 4], [0, 4, 6], [0, 6, 5], [4, 5, 6]].map(|t| [t[0], t[2], t[1]]),
     ]
     .concat();
-    assert_eq!(
-        message(&Plc3::from_triangles(points, &tris)),
-        "non-manifold points, where separate sheets of the surface touch: point 0: 2 fans \
-         (facets 0, 1, 2 | facets 4, 5, 6)"
+    let s = ok(&Plc3::from_triangles(points, &tris));
+    assert_eq!(s.components.len(), 2);
+    assert!(s.components.iter().all(|c| c.depth == 0));
+    assert!((s.domain_volume().unwrap() - 2.0 / 6.0).abs() < 1e-15);
+
+    // A tetrahedron inside a cube, touching it from inside at the cube's corner, its first
+    // point: nesting must be probed at another point (the shared one is on the cube).
+    let corner = (
+        vec![[0.0; 3], [1.0, 0.5, 0.5], [0.5, 1.0, 0.5], [0.5, 0.5, 1.0]],
+        TETRA.map(|t| [t[0], t[2], t[1]]).to_vec(),
     );
+    let s = ok(&union(&[cube([0.0; 3], 2.0), corner]));
+    let depths: Vec<_> = s.components.iter().map(|c| (c.depth, c.parent)).collect();
+    assert_eq!(depths, [(0, None), (1, Some(0))]);
+    assert!((s.domain_volume().unwrap() - (8.0 - 1.0 / 12.0)).abs() < 1e-14);
+    assert_eq!(s.in_domain([1.5, 1.5, 1.5]), Some(true));
+    assert_eq!(s.in_domain([0.5, 0.55, 0.6]), Some(false));
 }
 
 #[test]

@@ -439,6 +439,44 @@ fn a_rotated_box_of_one_facet_per_triangle_keeps_no_flat_element_on_its_sides() 
 }
 
 #[test]
+fn bodies_touching_at_a_point_are_meshed() {
+    // Two cubes meeting at one corner (as two STL files of touching parts), and a tetrahedron
+    // inside a box touching it at the box's corner from inside: the surfaces are pinched
+    // there, as they are along an edge for blocks sharing one. Every recovery gives the
+    // enclosed volume and the solid's Euler characteristic: 1 for two balls sharing a point,
+    // 2 for a ball with a cavity (touching the outer wall at a point or not).
+    let mut two = Plc3::default();
+    geometry3::box_surface([0.0; 3], [1.0; 3], [2; 3], 1).append_to(&mut two);
+    geometry3::box_surface([1.0; 3], [2.0; 3], [2; 3], 2).append_to(&mut two);
+    let mut corner = Plc3::default();
+    geometry3::box_surface([0.0; 3], [2.0; 3], [2; 3], 1).append_to(&mut corner);
+    let base = corner.points.len() as u32;
+    let facet = corner.triangles.iter().map(|t| t.facet).max().unwrap_or(0) + 1;
+    corner
+        .points
+        .extend([[0.0; 3], [1.0, 0.5, 0.5], [0.5, 1.0, 0.5], [0.5, 0.5, 1.0]]);
+    for (k, t) in [[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]]
+        .into_iter()
+        .enumerate()
+    {
+        corner.triangles.push(SurfaceTriangle {
+            v: t.map(|v| v + base),
+            marker: 2,
+            facet: facet + k as u32,
+        });
+    }
+    for (plc, volume, chi) in [(&two, 2.0, 1), (&corner, 8.0 - 1.0 / 12.0, 2)] {
+        let enclosed = check_surface(plc).unwrap().domain_volume().unwrap();
+        assert!((enclosed - volume).abs() < 1e-12, "{enclosed}");
+        for recovery in RECOVERIES {
+            let run = mesh_with(plc, recovery, options(1.0));
+            let delaunay = recovery != RecoveryMethod3::Constrained;
+            check_enclosing(plc, &run, chi, delaunay, volume);
+        }
+    }
+}
+
+#[test]
 fn two_solids_written_one_after_the_other_share_their_face_as_a_wall() {
     // Two unit cubes, each a closed surface of its own (as two STL files concatenated): the
     // face x = 1 comes twice, with opposite orientations. The second copy is dropped and the

@@ -226,14 +226,6 @@ pub fn names_intersection(message: &str) -> bool {
     lower.contains("intersect") && lower.chars().any(|c| c.is_ascii_digit())
 }
 
-/// Whether delmesh's error line reports non-manifold edges or points (sheets of the surface
-/// meeting along an edge or at a point, found before the intersection tests), naming facets:
-/// also a diagnosis of a surface that is not a valid boundary.
-pub fn names_non_manifold(message: &str) -> bool {
-    let lower = message.to_ascii_lowercase();
-    lower.contains("non-manifold") && lower.contains("facets")
-}
-
 /// Fails unless `bin` has the 3D `mesh` options this command uses.
 pub fn check_delmesh_cli(bin: &Path) -> Result<()> {
     let out = Command::new(bin)

@@ -4,7 +4,6 @@
 use super::bvh::Boxes;
 use super::error::{
     EdgeName, Listed, PointOnTriangle, SurfaceError, TJunctions, TriangleName, TrianglePair,
-    VertexName,
 };
 use super::intersect::{collinear, intersecting_pairs, points_on_triangles, triangle_box, P};
 use super::volume::{signed_volume, wind, Surface, Winding};
@@ -99,9 +98,10 @@ pub fn first_occurrences(points: &[[f64; 3]]) -> Vec<u32> {
 ///    CAD meshers orient each patch by its own parametrisation (gmsh does), and the orientation
 ///    carries nothing the surface needs, since that of each closed surface as a whole is free.
 ///    Only a one-sided surface cannot be so oriented (an error naming the edges, as given);
-/// 6. the triangles around each point form a single fan: two sheets touching at a point only
-///    are an error (found with a union–find over triangle corners across edges, junctions
-///    included);
+/// 6. the points where sheets of the surface touch (the triangles around them form more than
+///    one fan: two bodies meeting at a corner, a cone's apex on another body) are found with a
+///    union–find over triangle corners across edges, junctions included; they are accepted, as
+///    sheets meeting along an edge are (a junction), and the nesting below probes other points;
 /// 7. no point lies on a triangle it is not a corner of, and no two triangles intersect other
 ///    than in what they share, decided exactly (`orient3d`/`orient2d`, no tolerance) for the
 ///    pairs whose bounding boxes overlap (found through a bounding-volume hierarchy): triangles with no
@@ -115,9 +115,11 @@ pub fn first_occurrences(points: &[[f64; 3]]) -> Vec<u32> {
 ///    bound, and recomputed with exact floating-point expansions when the bound cannot tell
 ///    (a surface of almost no volume).
 ///
-/// **Nesting.** Once the checks pass, the components are pairwise disjoint closed surfaces, so
-/// a component lies inside another iff any one of its points does, and the components around
-/// one component form a chain. Each component's first point is tested against the others by
+/// **Nesting.** Once the checks pass, the components are closed surfaces pairwise disjoint but
+/// for the points where they touch, so a component lies inside another iff any one of its
+/// other points does, and the components around one component form a chain. Each component's
+/// first point where it touches no other (or, if it touches others at every corner, the centre
+/// of its first triangle) is tested against the others by
 /// the winding number of an exactly counted ray: along `+x` from the point moved by the
 /// infinitesimal `(0, ε, ε²)`. Whether it crosses a triangle is `orient2d` in the `(y, z)`
 /// projection, a zero resolved by the first non-zero term of the perturbation (which never
@@ -400,36 +402,6 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
             is_pinched[v] = true;
         }
     }
-    let mut pinched = Vec::new();
-    if is_pinched.contains(&true) {
-        let mut corners: Vec<(u32, u32, u32)> = (0..3 * tv.len() as u32)
-            .map(|c| (tv[c as usize / 3][c as usize % 3], c, c / 3))
-            .filter(|x| is_pinched[x.0 as usize])
-            .map(|(v, c, t)| (v, fans.find(c), t))
-            .collect();
-        corners.sort_unstable();
-        for around in corners.chunk_by(|x, y| x.0 == y.0) {
-            let fans: Vec<Vec<u64>> = around
-                .chunk_by(|x, y| x.1 == y.1)
-                .map(|fan| {
-                    let mut f: Vec<u64> = fan.iter().map(|x| facet_of(x.2)).collect();
-                    f.sort_unstable();
-                    f.dedup();
-                    f
-                })
-                .collect();
-            pinched.push(VertexName {
-                point: point_name(around[0].0),
-                fans,
-            });
-        }
-    }
-    if !pinched.is_empty() {
-        pinched.sort_by_key(|x| x.point);
-        return Err(SurfaceError::NonManifoldVertices {
-            vertices: Listed::of(pinched),
-        });
-    }
 
     // Geometry: points on triangles, then intersecting pairs.
     let boxes = Boxes::new(tv.iter().map(|&t| triangle_box(&spts, t)).collect());
@@ -517,8 +489,8 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
         })
         .collect();
 
-    // Nesting: the components are disjoint closed surfaces, so one is inside another iff any
-    // of its points is. A surface with walls has no winding number: its nesting is left to
+    // Nesting: the components are closed surfaces disjoint but for the points where they
+    // touch, so one is inside another iff any of its other points is. A surface with walls has no winding number: its nesting is left to
     // the flood fill of the mesh.
     if junctions.is_empty() {
         let surface = Surface {
@@ -529,7 +501,7 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
         let mut winding = Winding::new(components.len());
         let containers: Vec<Vec<u32>> = (0..components.len())
             .map(|c| {
-                let probe = spts[tv[components[c].triangles[0] as usize][0] as usize];
+                let probe = probe_point(&spts, &tv, &components[c].triangles, &is_pinched);
                 let on = wind(surface, &boxes, c as u32, probe, false, &mut winding);
                 debug_assert!(on.is_none(), "components are disjoint");
                 winding.take_nonzero()
@@ -576,6 +548,18 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
 /// The directed uses `(other end, triangle, lo → hi?)` of each undirected edge of the
 /// triangles, bucketed by its lower end (a counting sort): the uses of the edges at `lo` are
 /// `uses[start[lo]..start[lo + 1]]`.
+/// A point of the closed surface made of `triangles` that no other surface touches: a corner
+/// where the surface is not pinched, or, if every corner is, the centre of the first triangle
+/// (inside it, so on no other surface: the triangles do not intersect).
+fn probe_point(spts: &[P], tv: &[[u32; 3]], triangles: &[u32], pinched: &[bool]) -> P {
+    let corners = triangles.iter().flat_map(|&t| tv[t as usize]);
+    if let Some(v) = corners.clone().find(|&v| !pinched[v as usize]) {
+        return spts[v as usize];
+    }
+    let [a, b, c] = tv[triangles[0] as usize].map(|v| spts[v as usize]);
+    std::array::from_fn(|k| (a[k] + b[k] + c[k]) / 3.0)
+}
+
 fn edge_uses(tv: &[[u32; 3]], nv: usize) -> (Vec<u32>, Vec<(u32, u32, bool)>) {
     let mut start = vec![0u32; nv + 1];
     for t in tv {

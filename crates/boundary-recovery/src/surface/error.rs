@@ -116,28 +116,6 @@ impl fmt::Display for TJunctions {
     }
 }
 
-/// A point and the facets around it, grouped into the separate fans it joins.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct VertexName {
-    /// The point (input numbering).
-    pub point: u64,
-    /// The facets of each fan of triangles around the point (each fan sorted).
-    pub fans: Vec<Vec<u64>>,
-}
-
-impl fmt::Display for VertexName {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "point {}: {} fans (", self.point, self.fans.len())?;
-        for (k, fan) in self.fans.iter().enumerate() {
-            if k > 0 {
-                f.write_str(" | ")?;
-            }
-            write_facets(f, fan)?;
-        }
-        f.write_str(")")
-    }
-}
-
 /// A point lying on a triangle it is not a corner of.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PointOnTriangle {
@@ -268,13 +246,6 @@ pub enum SurfaceError {
     InconsistentOrientation {
         /// The edges (in the direction both traverse them) and their two facets.
         edges: Listed<EdgeName>,
-    },
-    /// Points where two or more sheets of the surface touch: the triangles around the point
-    /// form more than one fan.
-    #[error("non-manifold points, where separate sheets of the surface touch: {vertices}")]
-    NonManifoldVertices {
-        /// The points and their fans.
-        vertices: Listed<VertexName>,
     },
     /// Points lying on a triangle they are not a corner of (on its interior or an edge).
     #[error("points lie on triangles they are not a corner of: {hits}")]

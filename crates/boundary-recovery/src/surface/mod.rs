@@ -23,7 +23,6 @@ mod volume;
 pub use check::{check_surface, first_occurrences};
 pub use error::{
     EdgeName, Listed, PointOnTriangle, SurfaceError, TJunctions, TriangleName, TrianglePair,
-    VertexName,
 };
 pub use polygon::PolygonFacet;
 
