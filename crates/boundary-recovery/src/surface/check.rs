@@ -490,8 +490,8 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
         .collect();
 
     // Nesting: the components are closed surfaces disjoint but for the points where they
-    // touch, so one is inside another iff any of its other points is. A surface with walls has no winding number: its nesting is left to
-    // the flood fill of the mesh.
+    // touch, so one is inside another iff any of its other points is. A surface with walls
+    // has no winding number: its nesting is left to the flood fill of the mesh.
     if junctions.is_empty() {
         let surface = Surface {
             pts: &spts,
@@ -545,21 +545,21 @@ pub fn check_surface(plc: &Plc3) -> Result<CheckedSurface, SurfaceError> {
     })
 }
 
-/// The directed uses `(other end, triangle, lo → hi?)` of each undirected edge of the
-/// triangles, bucketed by its lower end (a counting sort): the uses of the edges at `lo` are
-/// `uses[start[lo]..start[lo + 1]]`.
 /// A point of the closed surface made of `triangles` that no other surface touches: a corner
 /// where the surface is not pinched, or, if every corner is, the centre of the first triangle
 /// (inside it, so on no other surface: the triangles do not intersect).
 fn probe_point(spts: &[P], tv: &[[u32; 3]], triangles: &[u32], pinched: &[bool]) -> P {
-    let corners = triangles.iter().flat_map(|&t| tv[t as usize]);
-    if let Some(v) = corners.clone().find(|&v| !pinched[v as usize]) {
+    let mut corners = triangles.iter().flat_map(|&t| tv[t as usize]);
+    if let Some(v) = corners.find(|&v| !pinched[v as usize]) {
         return spts[v as usize];
     }
     let [a, b, c] = tv[triangles[0] as usize].map(|v| spts[v as usize]);
     std::array::from_fn(|k| (a[k] + b[k] + c[k]) / 3.0)
 }
 
+/// The directed uses `(other end, triangle, lo → hi?)` of each undirected edge of the
+/// triangles, bucketed by its lower end (a counting sort): the uses of the edges at `lo` are
+/// `uses[start[lo]..start[lo + 1]]`.
 fn edge_uses(tv: &[[u32; 3]], nv: usize) -> (Vec<u32>, Vec<(u32, u32, bool)>) {
     let mut start = vec![0u32; nv + 1];
     for t in tv {
