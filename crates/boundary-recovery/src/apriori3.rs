@@ -10,10 +10,12 @@
 //! and its sphere's radius was `R²/2h`. The point is at the height `h = √(2/3)·L` of a regular
 //! tetrahedron on the face, or lower (3/4, 1/2 of it) if the sphere through the face and the
 //! point is not empty, or if another point lies within `h/4` of the new one (on the sphere: the
-//! two triangles of a rectangle would get one point), or if the point lies on the surface (a
-//! right triangle's circumcentre is the midpoint of its longest edge, and where that edge is a
-//! cube's, or a wall meets a facet, the normal runs along the next facet: a point in a surface
-//! triangle makes it unrecoverable). That sphere has its centre at `c + s·σ·n` with
+//! two triangles of a rectangle would get one point), or if the point lies on the surface or
+//! within `h/1000` of it (a right triangle's circumcentre is the midpoint of its longest edge,
+//! and where that edge is a cube's, or a wall meets a facet, the normal runs along the next
+//! facet: a point in a surface triangle makes it unrecoverable; where two surfaces touch at a
+//! point, the normal of a face there can run into the other surface, and a point on it to
+//! rounding made a flat tetrahedron or an unrecoverable edge). That sphere has its centre at `c + s·σ·n` with
 //! `σ = (h² − R² + |f − c|²)/(2h)` and radius `√(R² + σ²)`, at least `R`. Emptiness is checked
 //! against every point known so far (surface points, field points and the a-priori points
 //! already placed) by the exact in-sphere test, on the points a uniform grid finds near the
@@ -28,6 +30,11 @@ use rustc_hash::FxHashMap as HashMap;
 
 /// An a-priori point must be farther than this many times its height from every other point.
 const NEAR: f64 = 0.25;
+
+/// An a-priori point must be farther than this many times its height from every surface
+/// triangle other than its face: closer, it makes a flat tetrahedron with the triangle (a
+/// point rounded onto the surface, as where two surfaces touch, would even sit in it).
+const CLEAR: f64 = 1e-3;
 
 /// A ball spanning more grid cells than this is not searched: it counts as occupied.
 const MAX_CELLS: f64 = 4096.0;
@@ -100,7 +107,7 @@ pub(crate) fn a_priori_points(
     others: &[[f64; 3]],
     triangles: &[SurfaceTriangle],
     side: impl Fn(usize) -> f64,
-    on_surface: impl Fn([f64; 3]) -> bool,
+    near_surface: impl Fn([f64; 3], f64) -> bool,
 ) -> (Vec<[f64; 3]>, usize) {
     let mean = triangles
         .iter()
@@ -156,7 +163,7 @@ pub(crate) fn a_priori_points(
                 // walls between regions do) would sit inside a surface triangle.
                 if !grid.any_inside(centre, radius, in_sphere)
                     && !grid.any_inside(q, NEAR * h, near)
-                    && !on_surface(q)
+                    && !near_surface(q, CLEAR * h)
                 {
                     found = Some(q);
                     break 'search;
@@ -270,7 +277,7 @@ mod tests {
             }];
             let points = needle(x, height);
             let (placed, none) = within(10, move || {
-                a_priori_points(&points, &[], &t, |_| -1.0, |_| false)
+                a_priori_points(&points, &[], &t, |_| -1.0, |_, _| false)
             });
             assert_eq!((placed.len(), none), (0, 1), "{x} {height}: {placed:?}");
         }
@@ -306,7 +313,7 @@ mod tests {
             marker: 0,
             facet: 0,
         }];
-        let (placed, none) = a_priori_points(&points, &[], &t, |_| 1.0, |_| false);
+        let (placed, none) = a_priori_points(&points, &[], &t, |_| 1.0, |_, _| false);
         assert_eq!((placed.len(), none), (1, 0));
         let q = placed[0];
         assert!(q[0] == 0.5 && q[1] == 0.0 && q[2] > 0.0, "{q:?}");
@@ -333,10 +340,10 @@ mod tests {
             marker: 0,
             facet: 0,
         }];
-        let (alone, _) = a_priori_points(&points, &[], &t, |_| 1.0, |_| false);
+        let (alone, _) = a_priori_points(&points, &[], &t, |_| 1.0, |_, _| false);
         let q = alone[0];
         let other = [q[0], q[1], q[2] + 1e-9];
-        let (placed, none) = a_priori_points(&points, &[other], &t, |_| 1.0, |_| false);
+        let (placed, none) = a_priori_points(&points, &[other], &t, |_| 1.0, |_, _| false);
         assert_eq!((placed.len(), none), (1, 0));
         assert!(dist(placed[0], other) > 0.1 * q[2], "{placed:?} {other:?}");
     }
@@ -349,17 +356,17 @@ mod tests {
             marker: 0,
             facet: 0,
         }];
-        let (up, none) = a_priori_points(&points, &[], &t, |_| 1.0, |_| false);
+        let (up, none) = a_priori_points(&points, &[], &t, |_| 1.0, |_, _| false);
         assert_eq!((up.len(), none), (1, 0));
         assert!(up[0][2] > 0.0);
         // A point above the face pushes that side's point lower; the other side is free.
         let blocker = [[0.3, 0.3, 0.6]];
-        let (lower, _) = a_priori_points(&points, &blocker, &t, |_| 1.0, |_| false);
+        let (lower, _) = a_priori_points(&points, &blocker, &t, |_| 1.0, |_, _| false);
         assert!(
             lower[0][2] > 0.0 && lower[0][2] < 0.99 * up[0][2],
             "{lower:?} {up:?}"
         );
-        let (down, _) = a_priori_points(&points, &blocker, &t, |_| 0.0, |_| false);
+        let (down, _) = a_priori_points(&points, &blocker, &t, |_| 0.0, |_, _| false);
         assert!(down[0][2] < 0.0);
     }
 }

@@ -698,9 +698,10 @@ impl BoundaryRecovery3 {
                 &self.sides
             };
             let side = |k: usize| sides.get(k).copied().unwrap_or(0.0);
-            let on_surface = |q: [f64; 3]| checked.as_ref().is_some_and(|c| c.touches(q));
+            let near_surface =
+                |q: [f64; 3], d: f64| checked.as_ref().is_some_and(|c| c.within(q, d));
             let (placed, rejected) =
-                a_priori_points(&plc.points, &extra, &plc.triangles, side, on_surface);
+                a_priori_points(&plc.points, &extra, &plc.triangles, side, near_surface);
             a_priori_rejected = rejected;
             points.extend(placed);
         }
@@ -1362,6 +1363,9 @@ impl<'a> State<'a> {
         spacing: f64,
         near: VertexId,
     ) -> Result<Option<VertexId>, RecoveryError> {
+        // A field or a-priori point exactly where the surface needs one (rounding put it on
+        // the sub-segment or sub-face being split): it becomes that surface point.
+        let mut promoted = false;
         let inserted = if self.constrained {
             // Flips made the mesh non-Delaunay in places: Bowyer-Watson where the cells are
             // Delaunay, else split what the point lies in; then flip.
@@ -1388,6 +1392,10 @@ impl<'a> State<'a> {
         } else {
             match self.ct.insert_near(p, near)? {
                 Insertion::Inserted(v) => Some(v),
+                Insertion::Duplicate(d) if !self.on_surface.get(d.index()).is_none_or(|&s| s) => {
+                    promoted = true;
+                    Some(d)
+                }
                 Insertion::Duplicate(_) => None,
             }
         };
@@ -1409,6 +1417,18 @@ impl<'a> State<'a> {
                 self.touched[v.index()] = self.changes;
                 if self.constrained {
                     self.note_flips();
+                } else if promoted {
+                    // No cell changed, but what the point is did: the checks around it again.
+                    let mut star = std::mem::take(&mut self.star);
+                    self.stars.star(self.ct.triangulation(), v, &mut star);
+                    for &c in &star {
+                        for &u in self.ct.triangulation().cell(c) {
+                            if !u.is_ghost() {
+                                self.touched[u.index()] = self.changes;
+                            }
+                        }
+                    }
+                    self.star = star;
                 } else {
                     for &u in self.ct.triangulation().last_cavity_vertices() {
                         if !u.is_ghost() {

@@ -477,6 +477,37 @@ fn bodies_touching_at_a_point_are_meshed() {
 }
 
 #[test]
+fn a_priori_points_rounded_onto_the_surface() {
+    // An octahedral hole touching a rotated box at the centre of a face split into four
+    // (an adversarial input): an a-priori point of a face at the touching point landed on a
+    // box edge to rounding, and the edge's split point rounded onto it, a duplicate, so the
+    // a-priori recovery stopped ("0 points added"). That point now becomes the split point.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/hole-touching-box-rotated.off");
+    let plc = delmesh::mesh3d::read_plc3(&path).unwrap();
+    for recovery in RECOVERIES {
+        let run = mesh_with(&plc, recovery, options(1.0));
+        // A ball with a cavity (touching the outer wall at one point).
+        check(&plc, &run, 2, recovery != RecoveryMethod3::Constrained);
+    }
+    // A rotated box with a face split into four right triangles around its centre: their
+    // a-priori points, above the midpoints of the box's edges, lay on the next faces to
+    // rounding; recovery then added 134 points around them (min volume 2e-27). Points within
+    // a thousandth of their height of the surface are not placed: 4 points.
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/fan-box-rotated.off");
+    let plc = delmesh::mesh3d::read_plc3(&path).unwrap();
+    let base = MeshOptions3 {
+        generation: None,
+        ..MeshOptions3::default()
+    };
+    let run = mesh_with(&plc, RecoveryMethod3::APriori, base);
+    let added = run.recovery.edge_points + run.recovery.face_points;
+    assert!(added <= 8, "{added} points added");
+    check(&plc, &run, 1, true);
+}
+
+#[test]
 fn two_solids_written_one_after_the_other_share_their_face_as_a_wall() {
     // Two unit cubes, each a closed surface of its own (as two STL files concatenated): the
     // face x = 1 comes twice, with opposite orientations. The second copy is dropped and the

@@ -16,7 +16,7 @@
 //! exactly what a full scan would, in the same order.
 
 use delmesh_boundary_recovery::{Mesh2, OUTSIDE};
-use delmesh_delaunay_core::Insertion;
+use delmesh_delaunay_core::{Insertion, VertexId};
 
 use crate::generate::{elements_where, set, PointGenError};
 
@@ -81,7 +81,7 @@ impl QualityRefinement {
                 }
                 let tri = mesh.cdt.triangulation();
                 let tag = mesh.cdt.tag(c);
-                let v = tri.cell(c).to_vec();
+                let v: [VertexId; 3] = std::array::from_fn(|k| tri.cell(c)[k]);
                 if tag == OUTSIDE || v.iter().any(|u| u.is_ghost()) {
                     continue;
                 }

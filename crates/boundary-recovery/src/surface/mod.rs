@@ -207,6 +207,26 @@ impl CheckedSurface {
         on
     }
 
+    /// Whether some surface triangle comes closer to `p` than `d` (floating-point distances:
+    /// for placing optional points away from the surface, not for any decision the mesh's
+    /// validity rests on). False for a point [`CheckedSurface::touches`] cannot take.
+    pub fn within(&self, p: [f64; 3], d: f64) -> bool {
+        let (q, r) = (p.map(|x| x * self.scale), d * self.scale);
+        if !(q.iter().all(|x| x.is_finite()) && r.is_finite()) {
+            return false;
+        }
+        let reach = (q.map(|x| x - r), q.map(|x| x + r));
+        let mut near = false;
+        self.boxes.overlapping(&reach, &mut Vec::new(), |t| {
+            near = near
+                || distance2_to_triangle(
+                    self.corners[t as usize].map(|v| self.scaled[v as usize]),
+                    q,
+                ) < r * r;
+        });
+        near
+    }
+
     /// Whether the point is in the domain by nesting parity (inside an odd number of
     /// surfaces, as [`CheckedSurface::domain_volume`] counts); `None` on the surface, for a
     /// point [`CheckedSurface::locate`] cannot take, or on a surface with walls.
@@ -244,4 +264,43 @@ impl Plc3 {
             ..Default::default()
         })
     }
+}
+
+/// The squared distance from `q` to triangle `t`: to its plane where `q` projects inside it,
+/// else to the nearest edge.
+fn distance2_to_triangle(t: [[f64; 3]; 3], q: [f64; 3]) -> f64 {
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
+    let nn = dot(n, n);
+    let inside = nn > 0.0
+        && (0..3).all(|k| {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            dot(n, cross(sub(b, a), sub(q, a))) >= 0.0
+        });
+    if inside {
+        let h = dot(sub(q, t[0]), n);
+        return h * h / nn;
+    }
+    (0..3)
+        .map(|k| {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let (ab, aq) = (sub(b, a), sub(q, a));
+            let len2 = dot(ab, ab);
+            let s = if len2 > 0.0 {
+                (dot(aq, ab) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let foot = sub(aq, ab.map(|x| x * s));
+            dot(foot, foot)
+        })
+        .fold(f64::INFINITY, f64::min)
 }
