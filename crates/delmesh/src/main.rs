@@ -157,7 +157,9 @@ struct MeshArgs {
     no_flips: bool,
     /// 3D: at the end, flip away tetrahedra whose smallest dihedral angle is below DEG degrees
     /// (e.g. 10 or 15) where edge and face flips improve the worst element around them (beyond
-    /// the paper; the mesh is then no longer Delaunay where flips were made).
+    /// the paper; the mesh is then no longer Delaunay where flips were made). With
+    /// `--recovery constrained`, whose mesh is not Delaunay anyway, 0.0001 unless given: only
+    /// elements flat to rounding.
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     sliver_flips: Option<f64>,
     /// 3D: no radius–edge refinement (circumcentres of tetrahedra whose circumradius exceeds

@@ -72,6 +72,13 @@ pub const SMOOTHING_PASSES: usize = 4;
 /// the angle; most are done after two or three).
 const SLIVER_FLIP_PASSES: usize = 8;
 
+/// A mesh of the constrained recovery (not Delaunay, so no restoration follows) gets the
+/// sliver flips below this smallest dihedral angle (degrees) when none are asked for: such
+/// tetrahedra are flat to rounding (nearly coplanar surface points of a rotated box, joined
+/// across a face by the first tetrahedralisation: volumes of 1e-18 in a unit cube), not a
+/// feature of the domain, and flips remove them where that improves the worst element.
+const FLAT_TO_ROUNDING_DEGREES: f64 = 1e-4;
+
 /// Options of the 3D pipeline; `Default` is the paper's method with its usual parameters.
 #[derive(Clone, Debug)]
 pub struct MeshOptions3 {
@@ -120,7 +127,9 @@ pub struct MeshOptions3 {
     pub delaunay: bool,
     /// At the very end, flip away elements whose smallest dihedral angle is below this many
     /// degrees where flips improve them (beyond the paper; the mesh is then no longer
-    /// Delaunay there): see [`ConstrainedTriangulation3::improve_by_flips`]. `None`: no flips.
+    /// Delaunay there): see [`ConstrainedTriangulation3::improve_by_flips`]. `None`: no flips,
+    /// but for a mesh of the constrained recovery, which gets those below 0.0001° (flat to
+    /// rounding; see `FLAT_TO_ROUNDING_DEGREES`).
     ///
     /// [`ConstrainedTriangulation3::improve_by_flips`]: delmesh_delaunay_core::ConstrainedTriangulation3::improve_by_flips
     pub sliver_flips: Option<f64>,
@@ -556,7 +565,12 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
         lap("quality", &mut timings);
     }
     let mut sliver_flips = None;
-    if let Some(degrees) = options.sliver_flips {
+    let constrained = recovery_history.method == RecoveryMethod3::Constrained
+        && !recovery_history.constrained_fallback;
+    let degrees = options
+        .sliver_flips
+        .or(constrained.then_some(FLAT_TO_ROUNDING_DEGREES));
+    if let Some(degrees) = degrees {
         // Without the restoration the smoothed coordinates are in the arrays only (smoothing
         // keeps every element positive, so the move is accepted).
         let moved = restoration.is_some()

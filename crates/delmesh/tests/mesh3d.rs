@@ -508,6 +508,24 @@ fn a_priori_points_rounded_onto_the_surface() {
 }
 
 #[test]
+fn the_constrained_recovery_flips_away_tetrahedra_flat_to_rounding() {
+    // A rotated unit cube, no points: its face corners are coplanar only to rounding, and the
+    // first tetrahedralisation joined some across a face (three tetrahedra of volume 1e-18).
+    // The constrained mesh is not Delaunay anyway: flips below 0.0001° remove them.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/cube-rotated.off");
+    let plc = delmesh::mesh3d::read_plc3(&path).unwrap();
+    let base = MeshOptions3 {
+        generation: None,
+        ..MeshOptions3::default()
+    };
+    let run = mesh_with(&plc, RecoveryMethod3::Constrained, base);
+    let flips = run.sliver_flips.as_ref().expect("flat elements looked at");
+    assert!(flips.edge_flips + flips.face_flips > 0, "{flips:?}");
+    assert!(run.quality.min_volume > 1e-3, "{}", run.quality.min_volume);
+    check(&plc, &run, 1, false);
+}
+
+#[test]
 fn two_solids_written_one_after_the_other_share_their_face_as_a_wall() {
     // Two unit cubes, each a closed surface of its own (as two STL files concatenated): the
     // face x = 1 comes twice, with opposite orientations. The second copy is dropped and the

@@ -13,7 +13,7 @@
 //! whatever the number of threads.
 
 use crate::tet::{dihedral_extremes, radius_edge, volume6, P3};
-use delmesh_predicates::{orient3d, Sign};
+use delmesh_predicates::{orient3d, orient3d_value, Sign};
 use rayon::prelude::*;
 use std::fmt;
 
@@ -320,10 +320,17 @@ impl QualityReport3 {
                 let mut vols = Vec::with_capacity(chunk.len());
                 for t in chunk {
                     let p: [P3; 4] = t.map(corner);
-                    if orient3d(p[0], p[1], p[2], p[3]) != Sign::Positive {
+                    let sign = orient3d(p[0], p[1], p[2], p[3]);
+                    if sign != Sign::Positive {
                         part.non_positive += 1;
                     }
-                    let vol = volume6(&p) / 6.0;
+                    let mut vol = volume6(&p) / 6.0;
+                    // A tetrahedron flat to rounding: its floating-point volume can be 0 or of
+                    // the wrong sign, beside the exact count above. The exact expansion's
+                    // leading term then (rare: only there).
+                    if Sign::of(vol) != sign && vol.is_finite() {
+                        vol = orient3d_value(p[0], p[1], p[2], p[3]) / 6.0;
+                    }
                     vols.push(vol);
                     part.total += vol;
                     part.vmin = part.vmin.min(vol);
