@@ -1392,7 +1392,7 @@ impl<'a> State<'a> {
         } else {
             match self.ct.insert_near(p, near)? {
                 Insertion::Inserted(v) => Some(v),
-                Insertion::Duplicate(d) if !self.on_surface.get(d.index()).is_none_or(|&s| s) => {
+                Insertion::Duplicate(d) if self.on_surface.get(d.index()) == Some(&false) => {
                     promoted = true;
                     Some(d)
                 }
