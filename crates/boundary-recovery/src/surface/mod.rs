@@ -304,3 +304,22 @@ fn distance2_to_triangle(t: [[f64; 3]; 3], q: [f64; 3]) -> f64 {
         })
         .fold(f64::INFINITY, f64::min)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::distance2_to_triangle;
+
+    #[test]
+    fn distance_to_a_triangle_from_above_beside_an_edge_and_a_corner() {
+        let t = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]];
+        // Above the inside: the height; on it: 0.
+        assert_eq!(distance2_to_triangle(t, [0.5, 0.5, 3.0]), 9.0);
+        assert_eq!(distance2_to_triangle(t, [0.5, 0.5, 0.0]), 0.0);
+        // Beside the edge y = 0, and beyond the corner (2, 0, 0).
+        assert_eq!(distance2_to_triangle(t, [1.0, -1.0, 1.0]), 2.0);
+        assert_eq!(distance2_to_triangle(t, [3.0, -1.0, 0.0]), 2.0);
+        // Flat triangle (collinear corners): the distance to its segments.
+        let flat = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
+        assert_eq!(distance2_to_triangle(flat, [1.0, 1.0, 0.0]), 1.0);
+    }
+}
