@@ -481,7 +481,7 @@ fn a_priori_points_rounded_onto_the_surface() {
     // An octahedral hole touching a rotated box at the centre of a face split into four
     // (an adversarial input): an a-priori point of a face at the touching point landed on a
     // box edge to rounding, and the edge's split point rounded onto it, a duplicate, so the
-    // a-priori recovery stopped ("0 points added"). That point now becomes the split point.
+    // a-priori recovery stopped ("0 points added"). Such points are not placed now.
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../data/hole-touching-box-rotated.off");
     let plc = delmesh::mesh3d::read_plc3(&path).unwrap();
@@ -501,10 +501,33 @@ fn a_priori_points_rounded_onto_the_surface() {
         generation: None,
         ..MeshOptions3::default()
     };
-    let run = mesh_with(&plc, RecoveryMethod3::APriori, base);
+    let run = mesh_with(&plc, RecoveryMethod3::APriori, base.clone());
     let added = run.recovery.edge_points + run.recovery.face_points;
     assert!(added <= 8, "{added} points added");
     check(&plc, &run, 1, true);
+    // The user's points at the middles and quarters of the box's edges (`--points`), on them
+    // only to rounding, so kept: splits rounded onto them and recovery stopped. A split that
+    // lands exactly on a point off the surface now makes it the surface point.
+    for t in [0.5, 0.25] {
+        let mut extra = Vec::new();
+        for tri in &plc.triangles {
+            for k in 0..3 {
+                let (a, b) = (tri.v[k], tri.v[(k + 1) % 3]);
+                if a < b {
+                    let (pa, pb) = (plc.points[a as usize], plc.points[b as usize]);
+                    extra.push(std::array::from_fn(|i| pa[i] + t * (pb[i] - pa[i])));
+                }
+            }
+        }
+        for recovery in RECOVERIES {
+            let options = MeshOptions3 {
+                extra_points: extra.clone(),
+                ..base.clone()
+            };
+            let run = mesh_with(&plc, recovery, options);
+            check(&plc, &run, 1, recovery != RecoveryMethod3::Constrained);
+        }
+    }
 }
 
 #[test]

@@ -186,20 +186,19 @@ pub(crate) fn parse_node_section(
             attr_flat.push(value);
         }
         if n_mark == 1 {
-            let Some(&tok) = toks.get(n_fields - 1) else {
-                markers.push(0);
-                found += 1;
-                continue;
+            let marker = match toks.get(n_fields - 1) {
+                None => 0,
+                Some(&tok) => tok.parse::<i32>().map_err(|_| {
+                    err(
+                        line,
+                        format!(
+                            "boundary marker must be an integer, found '{}'",
+                            shorten(tok)
+                        ),
+                    )
+                })?,
             };
-            markers.push(tok.parse::<i32>().map_err(|_| {
-                err(
-                    line,
-                    format!(
-                        "boundary marker must be an integer, found '{}'",
-                        shorten(tok)
-                    ),
-                )
-            })?);
+            markers.push(marker);
         }
         found += 1;
     }
