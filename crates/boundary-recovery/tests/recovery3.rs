@@ -1143,3 +1143,24 @@ fn an_element_lying_flat_on_a_facet_is_taken_out() {
         );
     }
 }
+
+#[test]
+fn flat_surface_tetrahedra_deep_in_the_domain_are_left_to_field_points() {
+    // All the points of a fine icosphere lie on one sphere: two neighbouring surface triangles
+    // nearly coplanar make a flat tetrahedron whose circumsphere is the sphere itself, which
+    // any field point removes. When field points follow, recovery leaves those to them instead
+    // of splitting the edge under each (2,384 surface points here, for nothing; at level 5
+    // no two neighbours are flat enough); without field points to follow, it still splits.
+    let (p, t) = icosphere([0.0; 3], 1.0, 6);
+    let mut plc = Plc3::default();
+    add_surface(&mut plc, &p, &t, 1);
+    let volume = enclosed_volume(&p, &t);
+    let alone = BoundaryRecovery3::default().run(&plc).unwrap();
+    let followed = BoundaryRecovery3::default()
+        .field_points_follow(true)
+        .run(&plc)
+        .unwrap();
+    check(&plc, &followed, volume);
+    assert!(alone.history.points_added() > 1000, "{}", alone.history);
+    assert_eq!(followed.history.points_added(), 0, "{}", followed.history);
+}

@@ -402,7 +402,8 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
     let mut recovery = BoundaryRecovery3::new(options.recovery)
         .with_points(options.extra_points.clone())
         .merge_coplanar(options.merge_coplanar)
-        .coplanar_fallback(options.coplanar_fallback);
+        .coplanar_fallback(options.coplanar_fallback)
+        .field_points_follow(options.generation.is_some());
     if let Some(n) = options.max_steiner_points {
         recovery = recovery.max_steiner_points(n);
     }
