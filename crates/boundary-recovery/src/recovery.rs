@@ -1033,7 +1033,8 @@ fn empty_circle(
     len: f64,
 ) -> Option<[f64; 2]> {
     let target = 1.0 / (2.0 * 3f64.sqrt());
-    let (mut lo, mut hi) = (-1.0f64, target);
+    // The centre's range allowed by the points seen (none: unbounded above).
+    let (mut lo, mut hi) = (-1.0f64, f64::INFINITY);
     let reach = len * 1.25f64.sqrt();
     let (k0, k1) = (
         key([m[0] - reach, m[1] - reach]),
@@ -1078,11 +1079,13 @@ fn empty_circle(
     if lo >= hi {
         return None;
     }
-    // Keep a margin from the limiting points: they must stay strictly outside.
-    let t = if hi >= target {
-        target
+    // Keep a margin from the limiting points: they must stay strictly outside, also one on
+    // (or a rounding error outside) the equilateral circle, at its apex, as a Koch curve's
+    // corners are: the point went there, a rounding error from that corner.
+    let t = if hi.is_finite() {
+        target.min(hi - 0.1 * (hi - lo))
     } else {
-        hi - 0.1 * (hi - lo)
+        target
     };
     let h = len * (t + (0.25 + t * t).sqrt());
     Some([m[0] + h * n[0], m[1] + h * n[1]])
@@ -1091,6 +1094,31 @@ fn empty_circle(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_a_priori_point_keeps_clear_of_a_corner_on_its_circle() {
+        // The apex of the equilateral triangle over a b is an input corner (as a Koch curve's
+        // are): the point went there, within a rounding error of it (a triangle of area 1e-33
+        // beside it). It must keep clear of it, and of the edge's ends.
+        let (a, b) = ([0.0, 0.0], [1.0, 0.0]);
+        let key = |p: [f64; 2]| (p[0].floor() as i64, p[1].floor() as i64);
+        for apex in [[0.5, 0.75f64.sqrt()], [0.5, 0.75f64.sqrt() + 1e-16]] {
+            let mut grid: HashMap<(i64, i64), Vec<[f64; 2]>> = HashMap::default();
+            for p in [a, b, apex] {
+                grid.entry(key(p)).or_default().push(p);
+            }
+            let q = empty_circle(&grid, 1.0, key, a, b, [0.5, 0.0], [0.0, 1.0], 1.0).unwrap();
+            assert!(dist(q, apex) > 0.05, "{q:?} beside {apex:?}");
+            assert!(q[1] > 0.5, "{q:?}");
+        }
+        // Nothing near: the equilateral apex.
+        let mut grid: HashMap<(i64, i64), Vec<[f64; 2]>> = HashMap::default();
+        for p in [a, b, [0.5, 3.0]] {
+            grid.entry(key(p)).or_default().push(p);
+        }
+        let q = empty_circle(&grid, 1.0, key, a, b, [0.5, 0.0], [0.0, 1.0], 1.0).unwrap();
+        assert!((q[1] - 0.75f64.sqrt()).abs() < 1e-15, "{q:?}");
+    }
 
     #[test]
     fn long_lists_show_the_first_few_and_count_the_rest() {

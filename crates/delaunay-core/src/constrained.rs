@@ -375,6 +375,82 @@ impl ConstrainedTriangulation2 {
         }
     }
 
+    /// As [`Self::insert_near_if`], but only if `point` is visible from cell `from`: the
+    /// straight line from `from`'s centroid to it crosses no constrained edge (and stays in the
+    /// convex hull); `Ok(None)` otherwise, without walking any further. For a circumcentre
+    /// meant to remove `from`: a point that `from` cannot see could not remove it (the cavity
+    /// of a constrained triangulation stops at constrained edges), and the walk to it, across a
+    /// non-convex domain from one spike of a star to another, can cross the whole mesh.
+    ///
+    /// # Errors
+    /// As [`Self::insert_near_if`].
+    pub fn insert_visible_if(
+        &mut self,
+        point: [f64; 2],
+        from: CellId,
+        accept: impl Fn(&Self, CellId, Option<usize>) -> bool,
+    ) -> Result<Option<Insertion>, ConstraintError> {
+        let point = self.tri.flush_tiny(point);
+        let p = self.tri.scaled_input(point)?;
+        let Some(found) = self.walk_straight(p, from) else {
+            return Ok(None);
+        };
+        match self.insert_located(point, p, found, |cdt, (c, e)| accept(cdt, c, e)) {
+            // On a hull edge.
+            Err(ConstraintError::OutsideHull { .. }) => Ok(None),
+            other => other,
+        }
+    }
+
+    /// The location of the (internal) point `p` walking from the finite cell `from` along the
+    /// straight line from its centroid, and the edge of the cell `p` lies on, if any; `None`
+    /// where the line crosses a constrained edge or the convex hull first. Each step leaves a
+    /// cell by the edge the line crosses towards `p` (a line through a vertex taken as passing
+    /// on its left, so there is one). Should rounding of the centroid (in a cell flat to
+    /// rounding) leave no such edge, any edge `p` lies beyond is taken; a walk longer than the
+    /// number of cells, which only that could make, gives `None`.
+    fn walk_straight(&self, p: [f64; 2], from: CellId) -> Option<(Location, Option<usize>)> {
+        let live = from.index() < self.tri.simplices.len()
+            && self.tri.simplices[from.index()].v[0] != VertexId::DEAD;
+        if !live || self.tri.is_ghost(from) {
+            return None;
+        }
+        let v = self.tri.simplices[from.index()].v;
+        let (a, b, c) = (self.pt(v[0]), self.pt(v[1]), self.pt(v[2]));
+        let q = [(a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0];
+        let left = |u: VertexId| orient2d(q, p, self.pt(u)) != Sign::Negative;
+        let (mut cell, mut came) = (from, usize::MAX);
+        for _ in 0..=self.tri.simplices.len() {
+            if self.tri.is_ghost(cell) {
+                return None;
+            }
+            let s = &self.tri.simplices[cell.index()];
+            let v = [s.v[0], s.v[1], s.v[2]];
+            // Negative: p lies strictly beyond the edge opposite corner i.
+            let side: [Sign; 3] =
+                std::array::from_fn(|i| orient2d(p, self.pt(v[next(i)]), self.pt(v[prev(i)])));
+            if side.iter().all(|&o| o != Sign::Negative) {
+                // In the closed cell: at a vertex, on an edge (the lowest), or inside.
+                if let Some(&u) = v.iter().find(|&&u| self.pt(u) == p) {
+                    return Some((Location::Vertex(u), None));
+                }
+                let on = (0..3).find(|&i| side[i] == Sign::Zero);
+                return Some((Location::Cell(cell), on));
+            }
+            let exit = (0..3)
+                .find(|&i| {
+                    i != came && side[i] == Sign::Negative && left(v[next(i)]) != left(v[prev(i)])
+                })
+                .or_else(|| (0..3).find(|&i| i != came && side[i] == Sign::Negative))?;
+            if self.is_constrained(cell, exit) {
+                return None;
+            }
+            let across = s.n[exit];
+            (cell, came) = (across.cell(), across.facet());
+        }
+        None
+    }
+
     /// Locates `point` (caller's coordinates): the cell containing it or the vertex at it.
     pub fn locate(&mut self, point: [f64; 2]) -> Location {
         self.tri.locate(point)
@@ -392,10 +468,23 @@ impl ConstrainedTriangulation2 {
         hint: CellId,
         accept: impl Fn(&Self, (CellId, Option<usize>)) -> bool,
     ) -> Result<Option<Insertion>, ConstraintError> {
-        let input = self.tri.vertex_of_input.len();
         let p = self.tri.scaled_input(point)?;
         // The walk's own orientation tests tell whether the point is on an edge of its cell.
-        let (c, on_edge) = match self.tri.locate_on_facet(p, hint) {
+        let found = self.tri.locate_on_facet(p, hint);
+        self.insert_located(point, p, found, accept)
+    }
+
+    /// Inserts `point` (internal coordinates `p`), found at `found` by a walk (with the edge of
+    /// its cell it lies on, if any), if `accept` agrees; see [`Self::insert_near_if`].
+    fn insert_located(
+        &mut self,
+        point: [f64; 2],
+        p: [f64; 2],
+        found: (Location, Option<usize>),
+        accept: impl Fn(&Self, (CellId, Option<usize>)) -> bool,
+    ) -> Result<Option<Insertion>, ConstraintError> {
+        let input = self.tri.vertex_of_input.len();
+        let (c, on_edge) = match found {
             (Location::Vertex(v), _) => {
                 self.tri.vertex_of_input.push(v);
                 let original = self.tri.input_index[v.index()] as usize;

@@ -134,7 +134,7 @@ fn segments_inserted_by_flips_are_present_and_constrained_delaunay() {
 #[test]
 fn segment_order_does_not_matter() {
     let pts = uniform2(300, 3);
-    let segs = random_segments(&pts, 200, 4);
+    let segs = random_segments(&pts, 25, 4);
     let build = |order: &[(usize, usize)]| {
         let mut cdt = ConstrainedTriangulation2::new(Triangulation2::new(&pts).unwrap());
         for &(a, b) in order {
@@ -238,6 +238,104 @@ fn a_constructed_point_on_the_hull_is_refused_and_a_tiny_coordinate_flushed() {
         .vertex();
     assert_eq!(cdt.triangulation().vertex(v), [0.5, 0.0]);
     cdt.validate().unwrap();
+}
+
+/// A constructed point goes in from a cell only if the straight line from the cell's centroid
+/// to it crosses no constrained edge (quality refinement's circumcentres: one behind the
+/// boundary could not remove the cell, and the walk to it could cross the whole mesh).
+#[test]
+fn a_point_goes_in_from_a_cell_only_if_the_cell_sees_it() {
+    let pts = uniform2(300, 3);
+    let segs = random_segments(&pts, 25, 4);
+    let mut cdt = ConstrainedTriangulation2::new(Triangulation2::new(&pts).unwrap());
+    for &(a, b) in &segs {
+        let v = |i: usize| cdt.triangulation().vertex_of_input(i);
+        let (va, vb) = (v(a), v(b));
+        cdt.insert_segment(va, vb).unwrap();
+    }
+    let t = cdt.triangulation();
+    let edges: Vec<([f64; 2], [f64; 2])> = cdt
+        .constrained_edges()
+        .iter()
+        .map(|&(a, b)| (t.vertex(a), t.vertex(b)))
+        .collect();
+    let cells: Vec<CellId> = t.cells().collect();
+    let mut rng = StdRng::seed_from_u64(5);
+    let (mut seen, mut hidden) = (0, 0);
+    for _ in 0..400 {
+        let c = cells[rng.gen_range(0..cells.len())];
+        // Inside the hull of the 300 points.
+        let p = [rng.gen_range(0.1..0.9), rng.gen_range(0.1..0.9)];
+        let t = cdt.triangulation();
+        let corner = |k: usize| t.vertex(t.cell(c)[k]);
+        let q = [0, 1].map(|i| (corner(0)[i] + corner(1)[i] + corner(2)[i]) / 3.0);
+        let opposite = |x: Sign, y: Sign| x != y && x != Sign::Zero && y != Sign::Zero;
+        let blocked = edges.iter().any(|&(a, b)| {
+            opposite(orient2d(q, p, a), orient2d(q, p, b))
+                && opposite(orient2d(a, b, q), orient2d(a, b, p))
+        });
+        let mut trial = cdt.clone();
+        let inserted = trial.insert_visible_if(p, c, |_, _, _| true).unwrap();
+        assert_eq!(inserted.is_some(), !blocked, "cell {c:?}, point {p:?}");
+        if blocked {
+            hidden += 1;
+        } else {
+            trial.validate().unwrap();
+            seen += 1;
+        }
+    }
+    assert!(seen > 40 && hidden > 40, "{seen} seen, {hidden} hidden");
+
+    // A grid (lines through vertices, points on edges) with a wall x = 4 from y = 1 to 6.
+    let pts = grid2(9);
+    let mut cdt = ConstrainedTriangulation2::new(Triangulation2::new(&pts).unwrap());
+    let at = |cdt: &ConstrainedTriangulation2, x: f64, y: f64| {
+        let i = pts.iter().position(|&p| p == [x, y]).unwrap();
+        cdt.triangulation().vertex_of_input(i)
+    };
+    for y in 1..6 {
+        let (a, b) = (at(&cdt, 4.0, y as f64), at(&cdt, 4.0, y as f64 + 1.0));
+        cdt.insert_segment(a, b).unwrap();
+    }
+    let t = cdt.triangulation();
+    let west = t
+        .cells()
+        .find(|&c| {
+            t.cell(c)
+                .iter()
+                .all(|&v| t.vertex(v)[0] <= 3.0 && t.vertex(v)[1] >= 3.0)
+        })
+        .unwrap();
+    let corners = t
+        .cell(west)
+        .iter()
+        .map(|&v| t.vertex(v))
+        .collect::<Vec<_>>();
+    for (p, visible) in [
+        ([6.5, 3.5], false),
+        ([4.5, 2.0], false),
+        ([2.5, 7.5], true),
+        ([1.0, 1.5], true),
+        ([4.0, 7.5], true),
+        // On a vertex: a duplicate, found.
+        ([2.0, 2.0], true),
+        // On the hull, or beyond it: refused, as by `insert_near_if`.
+        ([0.0, 3.5], false),
+        ([-1.0, 3.5], false),
+    ] {
+        let mut trial = cdt.clone();
+        let got = trial.insert_visible_if(p, west, |_, _, _| true).unwrap();
+        assert_eq!(got.is_some(), visible, "{p:?} from {corners:?}");
+        trial.validate().unwrap();
+    }
+    // Points on the line of the wall, beyond its ends, and on its vertices: never a panic.
+    for y in [0.0, 0.5, 1.0, 3.0, 6.0, 7.0, 8.0] {
+        let mut trial = cdt.clone();
+        trial
+            .insert_visible_if([4.0, y], west, |_, _, _| true)
+            .unwrap();
+        trial.validate().unwrap();
+    }
 }
 
 #[test]

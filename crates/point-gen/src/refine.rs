@@ -99,7 +99,9 @@ impl QualityRefinement {
                     .sum::<f64>()
                     / 3.0;
                 let worst = min_sine(p);
-                let result = mesh.cdt.insert_near_if(centre, c, |cdt, cell, on_edge| {
+                // Only a circumcentre the element sees is tried: behind a boundary edge it
+                // could not remove the element (and the walk there could cross the mesh).
+                let result = mesh.cdt.insert_visible_if(centre, c, |cdt, cell, on_edge| {
                     cdt.tag(cell) == tag
                         && on_edge.is_none_or(|i| !cdt.is_constrained(cell, i))
                         && !worse_on_boundary(cdt.triangulation(), cell, centre, worst, |i| {
