@@ -403,7 +403,12 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
         .with_points(options.extra_points.clone())
         .merge_coplanar(options.merge_coplanar)
         .coplanar_fallback(options.coplanar_fallback)
-        .field_points_follow(options.generation.is_some());
+        .field_points_follow(
+            options
+                .generation
+                .as_ref()
+                .is_some_and(|g| g.max_points > 0),
+        );
     if let Some(n) = options.max_steiner_points {
         recovery = recovery.max_steiner_points(n);
     }
