@@ -403,11 +403,13 @@ fn mesh_plc3_as_given(plc: &Plc3, options: &MeshOptions3) -> Result<MeshRun3, Er
         .with_points(options.extra_points.clone())
         .merge_coplanar(options.merge_coplanar)
         .coplanar_fallback(options.coplanar_fallback)
+        // Flat tetrahedra on the surface are left to the field points only where enough may
+        // come to reach them all (a cap of 20 left a sphere's 3,000 there as slivers).
         .field_points_follow(
             options
                 .generation
                 .as_ref()
-                .is_some_and(|g| g.max_points > 0),
+                .is_some_and(|g| g.max_points >= plc.points.len().max(1)),
         );
     if let Some(n) = options.max_steiner_points {
         recovery = recovery.max_steiner_points(n);
