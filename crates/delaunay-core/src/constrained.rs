@@ -410,8 +410,7 @@ impl ConstrainedTriangulation2 {
     /// rounding) leave no such edge, any edge `p` lies beyond is taken; a walk longer than the
     /// number of cells, which only that could make, gives `None`.
     fn walk_straight(&self, p: [f64; 2], from: CellId) -> Option<(Location, Option<usize>)> {
-        let live = from.index() < self.tri.simplices.len()
-            && self.tri.simplices[from.index()].v[0] != VertexId::DEAD;
+        let live = from.index() < self.tri.simplices.len() && self.tri.is_live(from);
         if !live || self.tri.is_ghost(from) {
             return None;
         }

@@ -269,15 +269,7 @@ impl Plc3 {
 /// The squared distance from `q` to triangle `t`: to its plane where `q` projects inside it,
 /// else to the nearest edge.
 fn distance2_to_triangle(t: [[f64; 3]; 3], q: [f64; 3]) -> f64 {
-    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let cross = |a: [f64; 3], b: [f64; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
+    use crate::recovery3::{cross, dot, sub};
     let n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
     let nn = dot(n, n);
     let inside = nn > 0.0
